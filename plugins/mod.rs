@@ -1,0 +1,12 @@
+//! Integrator plugins, one folder each. They are compiled as modules of the `prism` crate (so the binary has them
+//! built in) but use only the public API an external crate could use: `Plugin`, `App::register_integrator`,
+//! `PixelIntegrator`/`PerPixel` and the render `Scene`.
+
+pub mod phong;
+
+use crate::app::App;
+
+/// Add every built-in integrator plugin.
+pub fn add_builtin_plugins(app: &mut App) {
+    app.add_plugin(phong::PhongPlugin);
+}

@@ -1,0 +1,44 @@
+//! Brute force: test every bounded primitive. The ground truth the other accelerators are checked against.
+
+use super::{AccelStats, Accelerator};
+use crate::geometry::{Ray, WatertightRay};
+use crate::primitives::{Hit, Primitives};
+
+pub struct BruteForce {
+    count: u32,
+}
+
+impl BruteForce {
+    pub fn build(prims: &Primitives) -> Self {
+        BruteForce {
+            count: prims.num_bounded(),
+        }
+    }
+}
+
+impl Accelerator for BruteForce {
+    fn intersect(&self, prims: &Primitives, ray: &Ray) -> Option<Hit> {
+        let wt = WatertightRay::new(ray);
+        let mut r = *ray;
+        let mut best = None;
+        for id in 0..self.count {
+            if let Some(h) = prims.intersect_bounded(id, &r, &wt) {
+                r.tmax = h.t;
+                best = Some(h);
+            }
+        }
+        best
+    }
+
+    fn occluded(&self, prims: &Primitives, ray: &Ray) -> bool {
+        let wt = WatertightRay::new(ray);
+        (0..self.count).any(|id| prims.intersect_bounded(id, ray, &wt).is_some())
+    }
+
+    fn stats(&self) -> AccelStats {
+        AccelStats {
+            kind: "brute",
+            ..Default::default()
+        }
+    }
+}

@@ -1,0 +1,75 @@
+//! Camera ray generation. Film positions `(px, py)` are in pixels, `px` to the right and `py` down from the top-left
+//! corner. A pinhole maps them to the camera-space direction `(x, y, 1)` with
+//! `x = (2 px / W - 1) tan(fov_y / 2) W / H` towards image-right and `y = (1 - 2 py / H) tan(fov_y / 2)` towards
+//! image-up, where image-right = normalize(forward x up) and image-up = right x forward: the image is not mirrored
+//! (the same convention as Mitsuba 3's `perspective` sensor with a vertical fov).
+
+use crate::components::{Camera, Projection};
+use crate::geometry::Ray;
+use glam::{Affine3A, Vec2, Vec3A};
+
+/// A camera resolved to world space, ready to generate rays.
+#[derive(Clone, Copy, Debug)]
+pub struct CameraRig {
+    eye: Vec3A,
+    forward: Vec3A,
+    right: Vec3A,
+    up: Vec3A,
+    /// Half-extent of the image plane at distance 1 (perspective) or in world units (orthographic).
+    half_w: f32,
+    half_h: f32,
+    ortho: bool,
+    pub width: u32,
+    pub height: u32,
+}
+
+impl CameraRig {
+    /// Returns `None` when the look-at frame is degenerate (eye == target, or up parallel to the view).
+    pub fn new(cam: &Camera, world_from_local: &Affine3A) -> Option<Self> {
+        let eye = world_from_local.transform_point3a(cam.eye.into());
+        let target = world_from_local.transform_point3a(cam.target.into());
+        let up_w = world_from_local.transform_vector3a(cam.up.into());
+        let forward = (target - eye).try_normalize()?;
+        let right = forward.cross(up_w).try_normalize()?;
+        let up = right.cross(forward);
+        let aspect = cam.width as f32 / cam.height as f32;
+        let (half_h, ortho) = match cam.projection {
+            Projection::Perspective { fov_y } => ((0.5 * fov_y.to_radians()).tan(), false),
+            Projection::Orthographic { height } => (0.5 * height, true),
+        };
+        Some(CameraRig {
+            eye,
+            forward,
+            right,
+            up,
+            half_w: half_h * aspect,
+            half_h,
+            ortho,
+            width: cam.width,
+            height: cam.height,
+        })
+    }
+
+    /// The primary ray through film position `film` (pixels).
+    #[inline]
+    pub fn generate_ray(&self, film: Vec2) -> Ray {
+        let x = (2.0 * film.x / self.width as f32 - 1.0) * self.half_w;
+        let y = (1.0 - 2.0 * film.y / self.height as f32) * self.half_h;
+        if self.ortho {
+            Ray::new(self.eye + self.right * x + self.up * y, self.forward)
+        } else {
+            Ray::new(
+                self.eye,
+                (self.forward + self.right * x + self.up * y).normalize(),
+            )
+        }
+    }
+
+    pub fn eye(&self) -> Vec3A {
+        self.eye
+    }
+
+    pub fn forward(&self) -> Vec3A {
+        self.forward
+    }
+}

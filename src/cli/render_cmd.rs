@@ -1,0 +1,208 @@
+//! `prism render SCENE [options]`: overrides on top of the scene's settings, a thread pool of the requested size,
+//! Ctrl-C keeps what was rendered (the film is written, then the process exits non-zero), a progress bar on a
+//! terminal, a one-paragraph summary on stderr.
+
+use crate::app::{App, SceneSource};
+use crate::error::PrismError;
+use crate::sampling::PixelPattern;
+use crate::settings::{AccelKind, Overrides};
+use clap::Args;
+use std::io::IsTerminal;
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, OnceLock};
+use std::time::{Duration, Instant};
+
+#[derive(Args, Debug, Clone)]
+pub struct RenderArgs {
+    /// Scene file: .ron (Prism scene) or .obj (mesh with an automatic camera and headlight).
+    pub scene: PathBuf,
+    /// Output image(s); .png (sRGB) or .exr (linear). Repeat for several. Default: SCENE-NAME.png.
+    #[arg(short, long = "output")]
+    pub output: Vec<PathBuf>,
+    /// Integrator plugin (e.g. phong).
+    #[arg(long)]
+    pub integrator: Option<String>,
+    /// Accelerator: bvh or brute.
+    #[arg(long, value_parser = parse_accel)]
+    pub accel: Option<AccelKind>,
+    /// Total samples per pixel.
+    #[arg(long)]
+    pub spp: Option<u32>,
+    /// Progressive passes the samples are split into.
+    #[arg(long)]
+    pub passes: Option<u32>,
+    /// Time budget in seconds: stop after the pass that crosses it (unlimited samples unless --spp is given).
+    #[arg(long)]
+    pub time: Option<f64>,
+    /// Image size, WIDTHxHEIGHT.
+    #[arg(long, value_parser = parse_size)]
+    pub size: Option<(u32, u32)>,
+    #[arg(long)]
+    pub seed: Option<u64>,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    pub threads: Option<usize>,
+    /// Pixel sample pattern: random, stratified or rgss.
+    #[arg(long, value_parser = parse_pattern)]
+    pub pattern: Option<PixelPattern>,
+    /// PNG exposure in stops.
+    #[arg(long, allow_negative_numbers = true)]
+    pub exposure: Option<f32>,
+    /// Write the outputs every this many seconds while rendering (0: only at the end).
+    #[arg(long, default_value_t = 10.0)]
+    pub checkpoint: f64,
+    /// No progress bar and no summary.
+    #[arg(long, short)]
+    pub quiet: bool,
+}
+
+fn parse_accel(s: &str) -> Result<AccelKind, String> {
+    AccelKind::parse(s).ok_or_else(|| format!("unknown accelerator '{s}' (expected bvh or brute)"))
+}
+
+fn parse_pattern(s: &str) -> Result<PixelPattern, String> {
+    PixelPattern::parse(s)
+        .ok_or_else(|| format!("unknown pattern '{s}' (expected random, stratified or rgss)"))
+}
+
+fn parse_size(s: &str) -> Result<(u32, u32), String> {
+    let (w, h) = s
+        .split_once(['x', 'X'])
+        .ok_or_else(|| format!("expected WIDTHxHEIGHT, got '{s}'"))?;
+    let w = w
+        .trim()
+        .parse::<u32>()
+        .map_err(|_| format!("bad width in '{s}'"))?;
+    let h = h
+        .trim()
+        .parse::<u32>()
+        .map_err(|_| format!("bad height in '{s}'"))?;
+    Ok((w, h))
+}
+
+/// The process-wide cancel flag, set by Ctrl-C.
+fn cancel_flag() -> Arc<AtomicBool> {
+    static FLAG: OnceLock<Arc<AtomicBool>> = OnceLock::new();
+    FLAG.get_or_init(|| {
+        let flag = Arc::new(AtomicBool::new(false));
+        let f = flag.clone();
+        // A second Ctrl-C exits at once.
+        let _ = ctrlc::set_handler(move || {
+            if f.swap(true, Ordering::SeqCst) {
+                std::process::exit(130);
+            }
+        });
+        flag
+    })
+    .clone()
+}
+
+pub fn run(args: RenderArgs) -> anyhow::Result<()> {
+    if let Some(t) = args.threads
+        && t == 0
+    {
+        return Err(PrismError::invalid("--threads must be at least 1").into());
+    }
+    if !(args.checkpoint.is_finite() && args.checkpoint >= 0.0) {
+        return Err(
+            PrismError::invalid("--checkpoint must be a non-negative number of seconds").into(),
+        );
+    }
+    let outputs = if args.output.is_empty() {
+        let stem = args
+            .scene
+            .file_stem()
+            .map(|s| s.to_string_lossy().to_string())
+            .unwrap_or_else(|| "out".into());
+        vec![PathBuf::from(format!("{stem}.png"))]
+    } else {
+        args.output.clone()
+    };
+    for o in &outputs {
+        let ext = o
+            .extension()
+            .and_then(|e| e.to_str())
+            .unwrap_or("")
+            .to_ascii_lowercase();
+        if ext != "png" && ext != "exr" {
+            return Err(PrismError::invalid(format!(
+                "{}: unsupported output format (use .png or .exr)",
+                o.display()
+            ))
+            .into());
+        }
+    }
+    let mut app = App::with_default_plugins();
+    let r = &mut app.resources;
+    r.source = SceneSource::File(args.scene.clone());
+    r.overrides = Overrides {
+        size: args.size,
+        spp: args.spp,
+        passes: args.passes,
+        pattern: args.pattern,
+        seed: args.seed,
+        time_budget: args.time,
+        spp_unlimited: args.time.is_some(),
+        integrator: args.integrator.clone(),
+        accel: args.accel,
+        exposure: args.exposure,
+    };
+    r.outputs = outputs.clone();
+    r.checkpoint_every = (args.checkpoint > 0.0).then(|| Duration::from_secs_f64(args.checkpoint));
+    r.cancel = cancel_flag();
+    r.show_progress = !args.quiet && std::io::stderr().is_terminal();
+    let mut builder = rayon::ThreadPoolBuilder::new();
+    if let Some(n) = args.threads {
+        builder = builder.num_threads(n);
+    }
+    let pool = builder.build().map_err(|e| {
+        PrismError::invalid(format!(
+            "cannot start {} threads: {e}",
+            args.threads.unwrap_or(0)
+        ))
+    })?;
+    let t0 = Instant::now();
+    pool.install(|| app.run())?;
+    let wall = t0.elapsed().as_secs_f64();
+    let res = &app.resources;
+    let p = &res.progress;
+    let s = &res.settings;
+    if !args.quiet {
+        let render_s = p.elapsed.as_secs_f64();
+        let samples = p.spp_done as f64 * s.width as f64 * s.height as f64;
+        eprintln!(
+            "{}x{} {} spp ({} passes, {}, {}, {}) in {:.2} s render + {:.2} s setup ({:.2} Msamples/s); wrote {}",
+            s.width,
+            s.height,
+            p.spp_done,
+            p.passes_done,
+            s.integrator.name,
+            s.accel.name(),
+            s.pattern.name(),
+            render_s,
+            (wall - render_s).max(0.0),
+            samples / render_s.max(1e-9) / 1e6,
+            outputs
+                .iter()
+                .map(|o| o.display().to_string())
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
+        if let Some(f) = &res.film
+            && f.nonfinite > 0
+        {
+            eprintln!(
+                "warning: {} samples were NaN or infinite and counted as 0",
+                f.nonfinite
+            );
+        }
+    }
+    if p.interrupted {
+        return Err(anyhow::anyhow!(
+            "interrupted: wrote the {} spp rendered so far",
+            p.spp_done
+        ));
+    }
+    Ok(())
+}

@@ -1,0 +1,53 @@
+//! Image error metrics against a reference: RMSE, relative MSE and mean absolute error over all pixels and
+//! channels (linear values).
+//!
+//! relMSE = mean((a - r)^2 / (r^2 + 0.01)): the 0.01 keeps dark reference pixels from dominating.
+
+use crate::error::{PrismError, Result};
+use crate::io::Image;
+use glam::Vec3;
+
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct Metrics {
+    pub rmse: f64,
+    pub relmse: f64,
+    pub mae: f64,
+    pub mean_test: [f64; 3],
+    pub mean_reference: [f64; 3],
+}
+
+pub fn compare(test: &Image, reference: &Image) -> Result<Metrics> {
+    if (test.width, test.height) != (reference.width, reference.height) {
+        return Err(PrismError::invalid(format!(
+            "image sizes differ: {}x{} vs {}x{}",
+            test.width, test.height, reference.width, reference.height
+        )));
+    }
+    let (mut se, mut rel, mut ae) = (0.0f64, 0.0f64, 0.0f64);
+    let (mut mt, mut mr) = ([0.0f64; 3], [0.0f64; 3]);
+    for (a, r) in test.pixels.iter().zip(&reference.pixels) {
+        for c in 0..3 {
+            let (a, r) = (a[c] as f64, r[c] as f64);
+            let d = a - r;
+            se += d * d;
+            rel += d * d / (r * r + 0.01);
+            ae += d.abs();
+            mt[c] += a;
+            mr[c] += r;
+        }
+    }
+    let n = (test.pixels.len() * 3).max(1) as f64;
+    let np = test.pixels.len().max(1) as f64;
+    Ok(Metrics {
+        rmse: (se / n).sqrt(),
+        relmse: rel / n,
+        mae: ae / n,
+        mean_test: mt.map(|v| v / np),
+        mean_reference: mr.map(|v| v / np),
+    })
+}
+
+/// Relative difference of two colours' channel means (for "image mean within x%" checks).
+pub fn mean_rel_diff(a: Vec3, b: Vec3) -> f32 {
+    ((a.x + a.y + a.z) - (b.x + b.y + b.z)).abs() / (b.x + b.y + b.z)
+}

@@ -1,0 +1,81 @@
+//! ECS components carried by scene entities. An entity carries only what it uses: a group node has a `Name` and a
+//! `Transform`; a sphere adds `Shape` and `MaterialId`; an area light adds `Light::Area` to a shape; the camera
+//! is an entity with a `Camera`. `WorldFromLocal` is derived by the Propagate stage from `Transform` and `Parent`.
+
+use glam::{Affine3A, Vec2, Vec3};
+
+/// Human-readable entity name, used in error messages and statistics.
+#[derive(Clone, Debug)]
+pub struct Name(pub String);
+
+/// The entity's local transform: `parent_from_local`. Absent means identity.
+#[derive(Clone, Copy, Debug)]
+pub struct Transform(pub Affine3A);
+
+/// The entity this one is nested in; it inherits that entity's transform.
+#[derive(Clone, Copy, Debug)]
+pub struct Parent(pub hecs::Entity);
+
+/// Composed transform from the entity's local frame to world space (written by the Propagate stage).
+#[derive(Clone, Copy, Debug)]
+pub struct WorldFromLocal(pub Affine3A);
+
+/// Index of a mesh in [`crate::scene::MeshStore`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct MeshHandle(pub u32);
+
+/// Geometry of an entity, in its local frame.
+#[derive(Clone, Debug)]
+pub enum Shape {
+    Sphere {
+        center: Vec3,
+        radius: f32,
+    },
+    /// The plane `{x : normal . x = offset}`; unbounded, so accelerators keep it aside.
+    Plane {
+        normal: Vec3,
+        offset: f32,
+    },
+    Triangle {
+        p: [Vec3; 3],
+        n: Option<[Vec3; 3]>,
+        uv: Option<[Vec2; 3]>,
+    },
+    Mesh(MeshHandle),
+}
+
+/// Index of a material in the scene's material table.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct MaterialId(pub u32);
+
+/// A light. Physical units: `intensity` in W/sr (radiant intensity), `irradiance` in W/m^2 on a surface facing the
+/// light, `radiance` in W/(m^2 sr).
+#[derive(Clone, Copy, Debug)]
+pub enum Light {
+    /// An isotropic point light at `position` (local frame).
+    Point { intensity: Vec3, position: Vec3 },
+    /// A distant light; `direction` is the direction the light travels (local frame).
+    Directional { irradiance: Vec3, direction: Vec3 },
+    /// The entity's shape emits `radiance` from its front side (the side of its normal), or both sides.
+    Area { radiance: Vec3, two_sided: bool },
+}
+
+/// Camera projection.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Projection {
+    /// Pinhole; `fov_y` is the full vertical field of view in degrees.
+    Perspective { fov_y: f32 },
+    /// Parallel projection; `height` is the world-space height of the view.
+    Orthographic { height: f32 },
+}
+
+/// A camera looking from `eye` to `target` (local frame of its entity), with an image size in pixels.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Camera {
+    pub eye: Vec3,
+    pub target: Vec3,
+    pub up: Vec3,
+    pub projection: Projection,
+    pub width: u32,
+    pub height: u32,
+}

@@ -1,0 +1,97 @@
+//! Axis-aligned bounding boxes.
+
+use glam::{Affine3A, Vec3A};
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Bounds {
+    pub min: Vec3A,
+    pub max: Vec3A,
+}
+
+impl Default for Bounds {
+    fn default() -> Self {
+        Self::EMPTY
+    }
+}
+
+impl Bounds {
+    pub const EMPTY: Bounds = Bounds {
+        min: Vec3A::splat(f32::INFINITY),
+        max: Vec3A::splat(f32::NEG_INFINITY),
+    };
+
+    #[inline]
+    pub fn new(min: Vec3A, max: Vec3A) -> Self {
+        Bounds { min, max }
+    }
+
+    #[inline]
+    pub fn from_points(points: &[Vec3A]) -> Self {
+        points.iter().fold(Self::EMPTY, |b, &p| b.with_point(p))
+    }
+
+    #[inline]
+    pub fn with_point(self, p: Vec3A) -> Self {
+        Bounds {
+            min: self.min.min(p),
+            max: self.max.max(p),
+        }
+    }
+
+    #[inline]
+    pub fn union(self, o: Bounds) -> Self {
+        Bounds {
+            min: self.min.min(o.min),
+            max: self.max.max(o.max),
+        }
+    }
+
+    #[inline]
+    pub fn is_empty(&self) -> bool {
+        self.min.x > self.max.x || self.min.y > self.max.y || self.min.z > self.max.z
+    }
+
+    #[inline]
+    pub fn diagonal(&self) -> Vec3A {
+        self.max - self.min
+    }
+
+    #[inline]
+    pub fn center(&self) -> Vec3A {
+        0.5 * (self.min + self.max)
+    }
+
+    /// Surface area (0 for an empty box).
+    #[inline]
+    pub fn area(&self) -> f32 {
+        if self.is_empty() {
+            return 0.0;
+        }
+        let d = self.diagonal();
+        2.0 * (d.x * d.y + d.y * d.z + d.z * d.x)
+    }
+
+    /// The box of the 8 transformed corners: a conservative bound of any shape inside `self` under `m`.
+    pub fn transformed(&self, m: &Affine3A) -> Bounds {
+        let mut out = Bounds::EMPTY;
+        for i in 0..8 {
+            let c = Vec3A::new(
+                if i & 1 == 0 { self.min.x } else { self.max.x },
+                if i & 2 == 0 { self.min.y } else { self.max.y },
+                if i & 4 == 0 { self.min.z } else { self.max.z },
+            );
+            out = out.with_point(m.transform_point3a(c));
+        }
+        out
+    }
+
+    /// Slab test: the parametric interval `(t0, t1)` of the ray inside the box, if any, clipped to `[0, tmax]`.
+    #[inline]
+    pub fn intersect_ray(&self, origin: Vec3A, inv_dir: Vec3A, tmax: f32) -> Option<(f32, f32)> {
+        let ta = (self.min - origin) * inv_dir;
+        let tb = (self.max - origin) * inv_dir;
+        let tnear = ta.min(tb).max_element().max(0.0);
+        let tfar = ta.max(tb).min_element().min(tmax);
+        (tnear <= tfar).then_some((tnear, tfar))
+    }
+}

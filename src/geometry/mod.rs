@@ -1,0 +1,17 @@
+//! Ray–primitive geometry: rays, bounds, watertight ray–triangle (Woop, Benthin & Wald 2013), numerically robust
+//! ray–sphere (Haines et al., Ray Tracing Gems ch. 7), ray–plane, and the ray-origin offset that prevents
+//! self-intersection without a scene-dependent epsilon (Wächter & Binder, Ray Tracing Gems ch. 6).
+
+mod bounds;
+mod offset;
+mod plane;
+mod ray;
+mod sphere;
+mod triangle;
+
+pub use bounds::Bounds;
+pub use offset::{offset_ray_origin, spawn_ray, spawn_ray_to};
+pub use plane::intersect_plane;
+pub use ray::Ray;
+pub use sphere::intersect_sphere;
+pub use triangle::{TriangleHit, WatertightRay};

@@ -1,0 +1,84 @@
+//! The integrator interface plugins implement.
+//!
+//! - [`Integrator`]: one progressive pass at a time, with whatever state it keeps between passes (a photon
+//!   mapper implements this directly). It is called once per pass, so its dynamic dispatch never sits in a hot loop.
+//! - [`PixelIntegrator`]: the common case, an estimator of the radiance along one camera ray. Wrap it in
+//!   [`PerPixel`] to get an `Integrator` that renders tiles in parallel with per-pixel deterministic random numbers
+//!   and the chosen pixel pattern; `radiance` is then called statically, not through a vtable.
+//! - [`IntegratorRegistry`]: names to factories; plugins register theirs in `Plugin::build`.
+
+mod per_pixel;
+mod registry;
+
+pub use per_pixel::{PerPixel, TILE_SIZE, tiles};
+pub use registry::{IntegratorFactory, IntegratorRegistry};
+
+use crate::error::Result;
+use crate::geometry::Ray;
+use crate::sampling::Rng;
+use crate::scene::Scene;
+use crate::settings::RenderSettings;
+use glam::Vec3;
+use std::sync::atomic::AtomicBool;
+
+/// What a pass is asked to do.
+#[derive(Clone, Copy, Debug)]
+pub struct PassInfo<'a> {
+    /// 0-based pass number (also seeds the pass's random numbers).
+    pub index: u32,
+    /// Camera samples per pixel in this pass.
+    pub spp: u32,
+    /// Samples per pixel rendered in earlier passes (index of this pass's first sample).
+    pub first_sample: u64,
+    pub settings: &'a RenderSettings,
+}
+
+/// A rectangle of pixels.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Tile {
+    pub x0: u32,
+    pub y0: u32,
+    pub w: u32,
+    pub h: u32,
+}
+
+/// Radiance sums of one tile for one pass: `sums[y * w + x]` holds the sum of `spp` samples.
+#[derive(Clone, Debug)]
+pub struct TileSamples {
+    pub tile: Tile,
+    pub spp: u32,
+    pub sums: Vec<Vec3>,
+    /// Samples that came out NaN or infinite and were replaced by 0 (reported in the render summary).
+    pub nonfinite: u32,
+}
+
+/// The result of one pass.
+#[derive(Clone, Debug)]
+pub enum PassOutput {
+    /// Sample sums to add to the film (tiles not rendered because of cancellation are simply absent).
+    Samples(Vec<TileSamples>),
+    /// A complete image estimate that replaces the film's content (for methods whose estimate is not a mean of
+    /// independent samples, such as progressive photon mapping). `complete` is false if the pass was cut short.
+    Estimate { image: Vec<Vec3>, complete: bool },
+}
+
+/// A rendering method that advances the image one progressive pass at a time.
+pub trait Integrator: Send + Sync {
+    /// One-time set-up after the scene and lights are built (Prepare stage).
+    fn prepare(&mut self, _scene: &Scene, _settings: &RenderSettings) -> Result<()> {
+        Ok(())
+    }
+
+    /// Render one pass. Must stop early (returning what it has) when `cancel` becomes true.
+    fn render_pass(&mut self, scene: &Scene, pass: &PassInfo, cancel: &AtomicBool) -> PassOutput;
+}
+
+/// An estimator of the radiance arriving along a camera ray.
+pub trait PixelIntegrator: Send + Sync {
+    fn prepare(&mut self, _scene: &Scene, _settings: &RenderSettings) -> Result<()> {
+        Ok(())
+    }
+
+    /// Radiance along `ray` (towards its origin), using `rng` for every random decision.
+    fn radiance(&self, scene: &Scene, ray: Ray, rng: &mut Rng) -> Vec3;
+}

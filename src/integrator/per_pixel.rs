@@ -1,0 +1,93 @@
+//! Tile-parallel rendering of a [`PixelIntegrator`]: rayon over 16x16 tiles, each pixel's random numbers seeded
+//! from (seed, pixel, pass), so the image does not depend on the number of threads or the order tiles run in.
+
+use super::{Integrator, PassInfo, PassOutput, PixelIntegrator, Tile, TileSamples};
+use crate::error::Result;
+use crate::sampling::{Rng, hash_u64};
+use crate::scene::Scene;
+use crate::settings::RenderSettings;
+use glam::{Vec2, Vec3};
+use rayon::prelude::*;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+pub const TILE_SIZE: u32 = 16;
+
+/// The image cut into `TILE_SIZE` tiles, row by row.
+pub fn tiles(width: u32, height: u32) -> Vec<Tile> {
+    let mut out = Vec::new();
+    for y0 in (0..height).step_by(TILE_SIZE as usize) {
+        for x0 in (0..width).step_by(TILE_SIZE as usize) {
+            out.push(Tile {
+                x0,
+                y0,
+                w: TILE_SIZE.min(width - x0),
+                h: TILE_SIZE.min(height - y0),
+            });
+        }
+    }
+    out
+}
+
+/// Adapts a per-ray estimator to the pass-based [`Integrator`] interface.
+pub struct PerPixel<T>(pub T);
+
+impl<T: PixelIntegrator> PerPixel<T> {
+    fn render_tile(&self, scene: &Scene, pass: &PassInfo, tile: Tile) -> TileSamples {
+        let s = pass.settings;
+        let mut sums = Vec::with_capacity((tile.w * tile.h) as usize);
+        let mut nonfinite = 0;
+        for y in tile.y0..tile.y0 + tile.h {
+            for x in tile.x0..tile.x0 + tile.w {
+                let pixel = y as u64 * s.width as u64 + x as u64;
+                let mut rng = Rng::for_pixel(s.seed, pixel, pass.index as u64);
+                // With a known total, samples are stratified over the whole render (the pixel's key is the same in
+                // every pass, each pass takes the next sample indices); otherwise within the pass.
+                let (base, total, key) = match s.spp {
+                    Some(n) => (
+                        pass.first_sample as u32,
+                        n,
+                        hash_u64(s.seed ^ hash_u64(pixel)) as u32,
+                    ),
+                    None => (0, pass.spp, rng.next_u32()),
+                };
+                let mut sum = Vec3::ZERO;
+                for i in 0..pass.spp {
+                    let off = s.pattern.offset(base + i, total, key, &mut rng);
+                    let ray = scene
+                        .camera
+                        .generate_ray(Vec2::new(x as f32 + off.x, y as f32 + off.y));
+                    let l = self.0.radiance(scene, ray, &mut rng);
+                    if l.is_finite() {
+                        sum += l;
+                    } else {
+                        nonfinite += 1;
+                    }
+                }
+                sums.push(sum);
+            }
+        }
+        TileSamples {
+            tile,
+            spp: pass.spp,
+            sums,
+            nonfinite,
+        }
+    }
+}
+
+impl<T: PixelIntegrator> Integrator for PerPixel<T> {
+    fn prepare(&mut self, scene: &Scene, settings: &RenderSettings) -> Result<()> {
+        self.0.prepare(scene, settings)
+    }
+
+    fn render_pass(&mut self, scene: &Scene, pass: &PassInfo, cancel: &AtomicBool) -> PassOutput {
+        let this = &*self;
+        let done: Vec<Option<TileSamples>> = tiles(pass.settings.width, pass.settings.height)
+            .into_par_iter()
+            .map(|tile| {
+                (!cancel.load(Ordering::Relaxed)).then(|| this.render_tile(scene, pass, tile))
+            })
+            .collect();
+        PassOutput::Samples(done.into_iter().flatten().collect())
+    }
+}

@@ -1,0 +1,183 @@
+//! Image files: linear RGB f32 OpenEXR (exr crate) and 8-bit sRGB PNG with an exposure (image crate). Writes go to
+//! a temporary file renamed into place, so an interrupted write never leaves a half-written image behind.
+
+use crate::error::{PrismError, Result};
+use glam::Vec3;
+use std::path::{Path, PathBuf};
+
+/// A linear RGB image, row-major from the top-left pixel.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Image {
+    pub width: u32,
+    pub height: u32,
+    pub pixels: Vec<Vec3>,
+}
+
+impl Image {
+    pub fn new(width: u32, height: u32, pixels: Vec<Vec3>) -> Self {
+        debug_assert_eq!(pixels.len(), width as usize * height as usize);
+        Image {
+            width,
+            height,
+            pixels,
+        }
+    }
+
+    pub fn get(&self, x: u32, y: u32) -> Vec3 {
+        self.pixels[(y * self.width + x) as usize]
+    }
+
+    /// Mean of every pixel.
+    pub fn mean(&self) -> Vec3 {
+        let s = self
+            .pixels
+            .iter()
+            .fold(glam::DVec3::ZERO, |a, p| a + p.as_dvec3());
+        (s / self.pixels.len().max(1) as f64).as_vec3()
+    }
+}
+
+fn temp_path(path: &Path) -> PathBuf {
+    let mut name = path
+        .file_name()
+        .map(|n| n.to_os_string())
+        .unwrap_or_default();
+    name.push(".partial");
+    let tmp = path.with_file_name(name);
+    // Keep the real extension last so encoders that look at it still work.
+    match path.extension() {
+        Some(ext) => tmp.with_extension(format!("partial.{}", ext.to_string_lossy())),
+        None => tmp,
+    }
+}
+
+fn finish(tmp: &Path, path: &Path) -> Result<()> {
+    std::fs::rename(tmp, path).map_err(|e| PrismError::io(path, e))
+}
+
+/// Write `img` to `path`; the format follows the extension (`.exr` linear, `.png` sRGB after `exposure` stops).
+pub fn write_image(path: &Path, img: &Image, exposure: f32) -> Result<()> {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .unwrap_or("")
+        .to_ascii_lowercase();
+    match ext.as_str() {
+        "exr" => write_exr(path, img),
+        "png" => write_png(path, img, exposure),
+        _ => Err(PrismError::invalid(format!(
+            "{}: unsupported output format (use .png or .exr)",
+            path.display()
+        ))),
+    }
+}
+
+pub fn write_exr(path: &Path, img: &Image) -> Result<()> {
+    let tmp = temp_path(path);
+    let w = img.width as usize;
+    exr::prelude::write_rgb_file(&tmp, w, img.height as usize, |x, y| {
+        let p = img.pixels[y * w + x];
+        (p.x, p.y, p.z)
+    })
+    .map_err(|e| PrismError::format(path, format!("cannot write EXR: {e}")))?;
+    finish(&tmp, path)
+}
+
+/// The sRGB transfer function (IEC 61966-2-1) of a linear value in [0, 1].
+#[inline]
+pub fn linear_to_srgb(v: f32) -> f32 {
+    if v <= 0.0031308 {
+        12.92 * v
+    } else {
+        1.055 * v.powf(1.0 / 2.4) - 0.055
+    }
+}
+
+#[inline]
+pub fn srgb_to_linear(v: f32) -> f32 {
+    if v <= 0.04045 {
+        v / 12.92
+    } else {
+        ((v + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+pub fn write_png(path: &Path, img: &Image, exposure: f32) -> Result<()> {
+    let scale = 2f32.powf(exposure);
+    let mut buf = Vec::with_capacity(img.pixels.len() * 3);
+    for p in &img.pixels {
+        for c in [p.x, p.y, p.z] {
+            let v = if c.is_finite() {
+                (c * scale).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            buf.push((linear_to_srgb(v) * 255.0 + 0.5) as u8);
+        }
+    }
+    let tmp = temp_path(path);
+    image::save_buffer_with_format(
+        &tmp,
+        &buf,
+        img.width,
+        img.height,
+        image::ColorType::Rgb8,
+        image::ImageFormat::Png,
+    )
+    .map_err(|e| PrismError::format(path, format!("cannot write PNG: {e}")))?;
+    finish(&tmp, path)
+}
+
+/// Read an EXR (linear) or PNG (sRGB, converted to linear) image.
+pub fn read_image(path: &Path) -> Result<Image> {
+    if !path.is_file() {
+        return Err(PrismError::io(
+            path,
+            std::io::Error::new(std::io::ErrorKind::NotFound, "image file not found"),
+        ));
+    }
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .unwrap_or("")
+        .to_ascii_lowercase();
+    match ext.as_str() {
+        "exr" => read_exr(path),
+        "png" => {
+            let img = image::open(path)
+                .map_err(|e| PrismError::format(path, format!("cannot read PNG: {e}")))?
+                .to_rgb8();
+            let (w, h) = img.dimensions();
+            let pixels = img
+                .pixels()
+                .map(|p| {
+                    Vec3::new(
+                        srgb_to_linear(p[0] as f32 / 255.0),
+                        srgb_to_linear(p[1] as f32 / 255.0),
+                        srgb_to_linear(p[2] as f32 / 255.0),
+                    )
+                })
+                .collect();
+            Ok(Image::new(w, h, pixels))
+        }
+        _ => Err(PrismError::invalid(format!(
+            "{}: unsupported image format (use .exr or .png)",
+            path.display()
+        ))),
+    }
+}
+
+pub fn read_exr(path: &Path) -> Result<Image> {
+    use exr::prelude::read_first_rgba_layer_from_file;
+    let img = read_first_rgba_layer_from_file(
+        path,
+        |res, _| (res.width(), vec![Vec3::ZERO; res.width() * res.height()]),
+        |(w, px): &mut (usize, Vec<Vec3>), pos, (r, g, b, _a): (f32, f32, f32, f32)| {
+            px[pos.y() * *w + pos.x()] = Vec3::new(r, g, b);
+        },
+    )
+    .map_err(|e| PrismError::format(path, format!("cannot read EXR: {e}")))?;
+    let (w, px) = img.layer_data.channel_data.pixels;
+    let h = px.len() / w.max(1);
+    Ok(Image::new(w as u32, h as u32, px))
+}

@@ -1,0 +1,38 @@
+//! # Prism
+//!
+//! A physically based CPU ray tracer built as a data-oriented ECS: scene files spawn entities (`hecs`) that carry
+//! transform, shape, material and light components; scheduled systems propagate transforms, flatten shapes into
+//! primitives, build an accelerator (BVH via obvhs, or brute force), prepare lights and the chosen integrator
+//! plugin, and render progressive passes into a linear HDR film written as EXR or PNG.
+//!
+//! Start with [`app::App`] (stages, systems, plugins), [`integrator`] (the interface plugins implement) and the
+//! scene format in the README.
+
+pub mod accel;
+pub mod app;
+pub mod camera;
+pub mod cli;
+pub mod compare;
+pub mod components;
+pub mod error;
+pub mod film;
+pub mod geometry;
+pub mod integrator;
+pub mod io;
+pub mod lights;
+pub mod load;
+pub mod material;
+pub mod math;
+pub mod mesh;
+pub mod primitives;
+pub mod propagate;
+pub mod render;
+pub mod sampling;
+pub mod scene;
+pub mod settings;
+
+#[path = "../plugins/mod.rs"]
+pub mod plugins;
+
+pub use app::{App, Plugin, Resources, Stage};
+pub use error::{PrismError, Result};

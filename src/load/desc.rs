@@ -1,0 +1,262 @@
+//! The RON scene schema: what a user writes. Every struct denies unknown fields and defaults whatever has a
+//! sensible default, so a minimal scene is a few lines. See README "Scene format" for the reference.
+
+use crate::sampling::PixelPattern;
+use ron::value::RawValue;
+use serde::Deserialize;
+
+pub type V3 = [f32; 3];
+
+fn one3() -> V3 {
+    [1.0; 3]
+}
+fn half3() -> V3 {
+    [0.5; 3]
+}
+fn yes() -> bool {
+    true
+}
+fn ior_glass() -> f32 {
+    1.5
+}
+fn unit() -> f32 {
+    1.0
+}
+fn up() -> V3 {
+    [0.0, 1.0, 0.0]
+}
+fn down() -> V3 {
+    [0.0, -1.0, 0.0]
+}
+fn default_eye() -> V3 {
+    [0.0, 0.0, 5.0]
+}
+fn default_fov() -> f32 {
+    40.0
+}
+fn default_size() -> (u32, u32) {
+    (256, 256)
+}
+
+/// A whole scene file.
+#[derive(Deserialize, Debug)]
+#[serde(deny_unknown_fields)]
+pub struct SceneDesc<'a> {
+    #[serde(default)]
+    pub camera: Option<CameraDesc>,
+    #[serde(default, borrow)]
+    pub render: RenderDesc<'a>,
+    /// Radiance of rays that leave the scene (for integrators without an environment light).
+    #[serde(default)]
+    pub background: V3,
+    /// Ambient radiance, reflected by materials' `ambient` coefficient (Phong integrator; 0 = physically based).
+    #[serde(default)]
+    pub ambient: V3,
+    #[serde(default)]
+    pub materials: std::collections::BTreeMap<String, MaterialDesc>,
+    #[serde(default)]
+    pub entities: Vec<EntityDesc>,
+}
+
+/// How to render: every field can be overridden on the command line.
+#[derive(Deserialize, Debug, Default)]
+#[serde(deny_unknown_fields)]
+pub struct RenderDesc<'a> {
+    /// `name` or `name(param: value, ...)`; the plugin owns the parameters.
+    #[serde(default, borrow)]
+    pub integrator: Option<&'a RawValue>,
+    #[serde(default)]
+    pub accel: Option<AccelDesc>,
+    /// Samples per pixel in total.
+    #[serde(default)]
+    pub spp: Option<u32>,
+    /// Progressive passes the samples are split into.
+    #[serde(default)]
+    pub passes: Option<u32>,
+    #[serde(default)]
+    pub pattern: Option<PixelPattern>,
+    #[serde(default)]
+    pub seed: Option<u64>,
+    /// Time budget in seconds: stop after the pass that crosses it.
+    #[serde(default)]
+    pub time: Option<f64>,
+    /// PNG exposure in stops.
+    #[serde(default)]
+    pub exposure: Option<f32>,
+}
+
+#[derive(Deserialize, Debug, Clone, Copy, PartialEq)]
+#[serde(rename_all = "lowercase", deny_unknown_fields)]
+pub enum AccelDesc {
+    Bvh,
+    Brute,
+}
+
+#[derive(Deserialize, Debug, Clone)]
+#[serde(deny_unknown_fields)]
+pub struct CameraDesc {
+    #[serde(default = "default_eye")]
+    pub eye: V3,
+    #[serde(default)]
+    pub target: V3,
+    #[serde(default = "up")]
+    pub up: V3,
+    /// Full vertical field of view in degrees (pinhole).
+    #[serde(default = "default_fov")]
+    pub fov: f32,
+    /// View height in world units: makes the camera orthographic.
+    #[serde(default)]
+    pub orthographic: Option<f32>,
+    /// Image width and height in pixels.
+    #[serde(default = "default_size")]
+    pub size: (u32, u32),
+}
+
+#[derive(Deserialize, Debug, Clone)]
+#[serde(deny_unknown_fields)]
+pub enum MaterialDesc {
+    /// Ideal diffuse reflector; `albedo` in [0,1].
+    Lambert {
+        #[serde(default = "half3")]
+        albedo: V3,
+        #[serde(default = "yes")]
+        two_sided: bool,
+    },
+    /// Phong material, physically based units (see `material.rs`).
+    Phong {
+        #[serde(default)]
+        ambient: V3,
+        #[serde(default)]
+        diffuse: V3,
+        #[serde(default)]
+        specular: V3,
+        #[serde(default = "unit")]
+        exponent: f32,
+        #[serde(default)]
+        reflective: V3,
+        #[serde(default)]
+        transparent: V3,
+        #[serde(default = "ior_glass")]
+        ior: f32,
+        #[serde(default = "yes")]
+        two_sided: bool,
+    },
+    /// Ideal mirror.
+    Mirror {
+        #[serde(default = "one3")]
+        reflectance: V3,
+    },
+    /// Smooth glass: Fresnel-weighted reflection and refraction.
+    Glass {
+        #[serde(default = "ior_glass")]
+        ior: f32,
+        #[serde(default = "one3")]
+        transmittance: V3,
+    },
+    /// A black surface that emits `radiance`: the entity becomes an area light.
+    Emissive {
+        radiance: V3,
+        #[serde(default)]
+        two_sided: bool,
+    },
+}
+
+#[derive(Deserialize, Debug, Clone)]
+#[serde(deny_unknown_fields)]
+pub struct EntityDesc {
+    #[serde(default)]
+    pub name: Option<String>,
+    /// Applied like a matrix product, left to right: `[A, B]` maps `p` to `A(B(p))`.
+    #[serde(default)]
+    pub transform: Vec<TransformOp>,
+    #[serde(default)]
+    pub shape: Option<ShapeDesc>,
+    /// Name of an entry of `materials`.
+    #[serde(default)]
+    pub material: Option<String>,
+    #[serde(default)]
+    pub light: Option<LightDesc>,
+    /// Nested entities: they inherit this entity's transform (and its material if they name none).
+    #[serde(default)]
+    pub children: Vec<EntityDesc>,
+}
+
+#[derive(Deserialize, Debug, Clone)]
+#[serde(deny_unknown_fields)]
+pub enum TransformOp {
+    Translate(V3),
+    /// Non-uniform scale.
+    Scale(V3),
+    UniformScale(f32),
+    /// Rotation by `degrees` about `axis` (right-handed).
+    Rotate {
+        axis: V3,
+        degrees: f32,
+    },
+    /// Rotation by Euler angles in degrees: about x first, then y, then z (R = Rz Ry Rx).
+    Euler(V3),
+    /// A 4x4 matrix, rows listed top to bottom (the last row must be 0 0 0 1).
+    Matrix([[f32; 4]; 4]),
+}
+
+#[derive(Deserialize, Debug, Clone)]
+#[serde(deny_unknown_fields)]
+pub enum ShapeDesc {
+    Sphere {
+        #[serde(default)]
+        center: V3,
+        #[serde(default = "unit")]
+        radius: f32,
+    },
+    /// The plane `{x : normal . x = offset}`.
+    Plane {
+        #[serde(default = "up")]
+        normal: V3,
+        #[serde(default)]
+        offset: f32,
+    },
+    Triangle {
+        vertices: [V3; 3],
+        #[serde(default)]
+        normals: Option<[V3; 3]>,
+        #[serde(default)]
+        uvs: Option<[[f32; 2]; 3]>,
+    },
+    /// Four corners counter-clockwise seen from the front; default the square [-1,1]^2 at z = 0 facing +z.
+    Quad {
+        #[serde(default)]
+        corners: Option<[V3; 4]>,
+    },
+    /// The cube [-1,1]^3 (outward normals); scale and place it with `transform`.
+    Cube,
+    /// A mesh file (OBJ), path relative to the scene file.
+    Mesh {
+        path: String,
+        /// Ignore the file's vertex normals and shade flat.
+        #[serde(default)]
+        flat: bool,
+    },
+}
+
+#[derive(Deserialize, Debug, Clone)]
+#[serde(deny_unknown_fields)]
+pub enum LightDesc {
+    /// Isotropic point light; `intensity` in W/sr.
+    Point {
+        intensity: V3,
+        #[serde(default)]
+        position: V3,
+    },
+    /// Distant light travelling along `direction`; `irradiance` in W/m^2 on a surface facing it.
+    Directional {
+        irradiance: V3,
+        #[serde(default = "down")]
+        direction: V3,
+    },
+    /// The entity's shape emits `radiance` (W/m^2/sr) from its front face, or both faces.
+    Area {
+        radiance: V3,
+        #[serde(default)]
+        two_sided: bool,
+    },
+}

@@ -1,0 +1,203 @@
+//! The Load stage: read the scene (RON, or a bare OBJ mesh), spawn its entities, and resolve the render settings
+//! from the file and the command-line overrides.
+
+pub mod desc;
+mod obj;
+mod ron_scene;
+mod spawn;
+mod transform;
+
+pub use obj::{ObjPart, load_obj};
+pub use ron_scene::{line_col, parse_scene, plugin_config};
+pub use spawn::{FileSettings, camera_component, spawn_scene};
+pub use transform::{check_affine, compose};
+
+use crate::app::{Resources, SceneSource};
+use crate::components::{Camera, Light, MaterialId, Name, Projection, Shape};
+use crate::error::{PrismError, Result};
+use crate::material::Material;
+use crate::settings::{PluginConfig, RenderSettings};
+use glam::Vec3;
+use hecs::World;
+use std::path::Path;
+
+/// A readable name for an entity in messages: its `Name`, or its id.
+pub fn entity_label(world: &World, e: hecs::Entity) -> String {
+    match world.get::<&Name>(e) {
+        Ok(n) => format!("entity '{}'", n.0),
+        Err(_) => format!("entity #{}", e.id()),
+    }
+}
+
+/// Load-stage system: spawn the scene's entities and resolve the settings.
+pub fn load_scene_system(world: &mut World, res: &mut Resources) -> Result<()> {
+    let file_settings = match res.source.clone() {
+        SceneSource::Prebuilt => FileSettings::default(),
+        SceneSource::File(path) => load_file(&path, world, res)?,
+        SceneSource::RonText {
+            text,
+            name,
+            base_dir,
+        } => {
+            let desc = parse_scene(&text, &name)?;
+            spawn_scene(&desc, &text, &name, &base_dir, world, res)?
+        }
+    };
+    if res.materials.is_empty() {
+        res.materials.push(Material::default());
+    }
+    resolve_settings(world, res, file_settings)
+}
+
+fn load_file(path: &Path, world: &mut World, res: &mut Resources) -> Result<FileSettings> {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .unwrap_or("")
+        .to_ascii_lowercase();
+    match ext.as_str() {
+        "ron" => {
+            let text = std::fs::read_to_string(path).map_err(|e| PrismError::io(path, e))?;
+            let base = path.parent().unwrap_or(Path::new("."));
+            let desc = parse_scene(&text, path)?;
+            spawn_scene(&desc, &text, path, base, world, res)
+        }
+        "obj" => load_obj_scene(path, world, res),
+        "" => Err(PrismError::invalid(format!(
+            "{}: scene file has no extension (expected .ron or .obj)",
+            path.display()
+        ))),
+        other => Err(PrismError::invalid(format!(
+            "{}: unsupported scene format '.{other}' (expected .ron or .obj)",
+            path.display()
+        ))),
+    }
+}
+
+/// A bare OBJ file as a scene: the mesh with its MTL materials, a camera framing it from +z, and a headlight
+/// (a directional light along the view, irradiance pi, so an albedo-a surface facing the camera shows radiance a).
+fn load_obj_scene(path: &Path, world: &mut World, res: &mut Resources) -> Result<FileSettings> {
+    if !path.is_file() {
+        return Err(PrismError::io(
+            path,
+            std::io::Error::new(std::io::ErrorKind::NotFound, "scene file not found"),
+        ));
+    }
+    res.materials.push(Material::default());
+    let parts = load_obj(path)?;
+    let mut lo = Vec3::splat(f32::INFINITY);
+    let mut hi = Vec3::splat(f32::NEG_INFINITY);
+    for part in parts {
+        part.mesh.positions.iter().for_each(|p| {
+            lo = lo.min(*p);
+            hi = hi.max(*p);
+        });
+        let material = part.material.map(|m| {
+            res.materials.push(m);
+            res.materials.len() as u32 - 1
+        });
+        let name = Name(part.mesh.name.clone());
+        let h = res.meshes.add(part.mesh);
+        let e = world.spawn((name, Shape::Mesh(h)));
+        if let Some(id) = material {
+            world.insert_one(e, MaterialId(id)).ok();
+        }
+        if let Some(radiance) = part.emission {
+            world
+                .insert_one(
+                    e,
+                    Light::Area {
+                        radiance,
+                        two_sided: false,
+                    },
+                )
+                .ok();
+        }
+    }
+    let center = 0.5 * (lo + hi);
+    let radius = (0.5 * (hi - lo).length()).max(1e-6);
+    let fov: f32 = 40.0;
+    let dist = 1.1 * radius / (0.5 * fov.to_radians()).sin();
+    let eye = center + Vec3::new(0.0, 0.0, dist);
+    world.spawn((
+        Name("camera".into()),
+        Camera {
+            eye,
+            target: center,
+            up: Vec3::Y,
+            projection: Projection::Perspective { fov_y: fov },
+            width: 256,
+            height: 256,
+        },
+    ));
+    world.spawn((
+        Name("headlight".into()),
+        Light::Directional {
+            irradiance: Vec3::splat(std::f32::consts::PI),
+            direction: -Vec3::Z,
+        },
+    ));
+    Ok(FileSettings::default())
+}
+
+/// Merge file settings and overrides into `res.settings`; apply `--size` to the camera.
+fn resolve_settings(world: &mut World, res: &mut Resources, f: FileSettings) -> Result<()> {
+    let o = res.overrides.clone();
+    let mut cams = world.query_mut::<&mut Camera>().into_iter();
+    let cam = cams
+        .next()
+        .ok_or_else(|| PrismError::invalid("the scene has no camera"))?;
+    if cams.next().is_some() {
+        return Err(PrismError::invalid("the scene has more than one camera"));
+    }
+    if let Some((w, h)) = o.size {
+        cam.width = w;
+        cam.height = h;
+    }
+    let (width, height) = (cam.width, cam.height);
+    let d = RenderSettings::default();
+    let integrator = match (&o.integrator, f.integrator) {
+        (Some(name), Some(cfg)) if *name == cfg.name => cfg,
+        (Some(name), _) => PluginConfig::named(name.clone()),
+        (None, Some(cfg)) => cfg,
+        (None, None) => d.integrator.clone(),
+    };
+    let time_budget = o.time_budget.or(f.time);
+    // A time budget given without a sample count renders until the budget is spent.
+    let spp = if o.spp_unlimited && o.spp.is_none() {
+        None
+    } else {
+        Some(o.spp.or(f.spp).unwrap_or(d.spp.unwrap_or(16)))
+    };
+    let default_passes = |n: u32| n.clamp(1, 16);
+    let passes = match (o.passes, spp) {
+        (Some(p), _) => p,
+        (None, Some(n)) if o.spp.is_some() => default_passes(n),
+        (None, Some(n)) => f.passes.map_or(default_passes(n), |p| p.min(n)),
+        (None, None) => u32::MAX,
+    };
+    let scene_spp = f.spp.unwrap_or(16);
+    let pass_spp = (scene_spp / f.passes.unwrap_or(default_passes(scene_spp)).max(1)).max(1);
+    res.settings = RenderSettings {
+        width,
+        height,
+        spp,
+        passes,
+        pass_spp,
+        pattern: o.pattern.or(f.pattern).unwrap_or(d.pattern),
+        seed: o.seed.or(f.seed).unwrap_or(d.seed),
+        time_budget,
+        integrator,
+        accel: o.accel.or(f.accel).unwrap_or(d.accel),
+        exposure: o.exposure.or(f.exposure).unwrap_or(d.exposure),
+    };
+    res.settings.validate()?;
+    if !res.integrators.contains(&res.settings.integrator.name) {
+        return Err(PrismError::invalid(format!(
+            "unknown integrator '{}' (available: {})",
+            res.settings.integrator.name,
+            res.integrators.names().join(", ")
+        )));
+    }
+    Ok(())
+}

@@ -1,0 +1,104 @@
+//! Scene transform operations to matrices, with validation (finite, invertible, affine).
+
+use super::desc::TransformOp;
+use crate::error::{PrismError, Result};
+use glam::{Affine3A, Mat3, Mat4, Quat, Vec3};
+
+/// Compose a list of operations left to right as a matrix product: `[A, B]` maps `p` to `A(B(p))`.
+pub fn compose(ops: &[TransformOp], context: &str) -> Result<Affine3A> {
+    let mut m = Affine3A::IDENTITY;
+    for op in ops {
+        m *= op_matrix(op, context)?;
+    }
+    check_affine(&m, context)?;
+    Ok(m)
+}
+
+fn bad(context: &str, msg: impl Into<String>) -> PrismError {
+    PrismError::scene(context, msg)
+}
+
+fn finite(v: &[f32], what: &str, context: &str) -> Result<()> {
+    if v.iter().all(|x| x.is_finite()) {
+        Ok(())
+    } else {
+        Err(bad(
+            context,
+            format!("{what} contains NaN or infinity: {v:?}"),
+        ))
+    }
+}
+
+fn op_matrix(op: &TransformOp, context: &str) -> Result<Affine3A> {
+    Ok(match op {
+        TransformOp::Translate(t) => {
+            finite(t, "Translate", context)?;
+            Affine3A::from_translation(Vec3::from(*t))
+        }
+        TransformOp::Scale(s) => {
+            finite(s, "Scale", context)?;
+            if s.contains(&0.0) {
+                return Err(bad(
+                    context,
+                    format!(
+                        "Scale {s:?} has a zero factor (the transform would not be invertible)"
+                    ),
+                ));
+            }
+            Affine3A::from_scale(Vec3::from(*s))
+        }
+        TransformOp::UniformScale(s) => {
+            finite(&[*s], "UniformScale", context)?;
+            if *s == 0.0 {
+                return Err(bad(
+                    context,
+                    "UniformScale is zero (the transform would not be invertible)",
+                ));
+            }
+            Affine3A::from_scale(Vec3::splat(*s))
+        }
+        TransformOp::Rotate { axis, degrees } => {
+            finite(axis, "Rotate axis", context)?;
+            finite(&[*degrees], "Rotate degrees", context)?;
+            let a = Vec3::from(*axis)
+                .try_normalize()
+                .ok_or_else(|| bad(context, "Rotate axis is the zero vector"))?;
+            Affine3A::from_quat(Quat::from_axis_angle(a, degrees.to_radians()))
+        }
+        TransformOp::Euler(e) => {
+            finite(e, "Euler", context)?;
+            let r = Mat3::from_rotation_z(e[2].to_radians())
+                * Mat3::from_rotation_y(e[1].to_radians())
+                * Mat3::from_rotation_x(e[0].to_radians());
+            Affine3A::from_mat3(r)
+        }
+        TransformOp::Matrix(rows) => {
+            let flat: Vec<f32> = rows.iter().flatten().copied().collect();
+            finite(&flat, "Matrix", context)?;
+            if rows[3] != [0.0, 0.0, 0.0, 1.0] {
+                return Err(bad(
+                    context,
+                    format!(
+                        "Matrix last row must be [0, 0, 0, 1] (affine), got {:?}",
+                        rows[3]
+                    ),
+                ));
+            }
+            let m = Mat4::from_cols_array_2d(rows).transpose();
+            Affine3A::from_mat4(m)
+        }
+    })
+}
+
+/// Reject transforms that cannot be inverted (normals and object-space intersection need the inverse).
+pub fn check_affine(m: &Affine3A, context: &str) -> Result<()> {
+    let det = m.matrix3.determinant();
+    if !det.is_finite() || !m.translation.is_finite() {
+        return Err(bad(context, "transform is not finite"));
+    }
+    let scale = m.matrix3.x_axis.length() * m.matrix3.y_axis.length() * m.matrix3.z_axis.length();
+    if det == 0.0 || det.abs() <= 1e-12 * scale {
+        return Err(bad(context, "transform is singular (it flattens space)"));
+    }
+    Ok(())
+}

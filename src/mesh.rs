@@ -1,0 +1,101 @@
+//! Triangle meshes shared by entities (`Shape::Mesh(handle)`), plus the built-in unit quad and cube.
+
+use crate::components::MeshHandle;
+use glam::{Vec2, Vec3};
+use std::sync::Arc;
+
+/// An indexed triangle mesh in its local frame. `normals` and `uvs` are either empty or one per position.
+#[derive(Clone, Debug, Default)]
+pub struct MeshData {
+    pub name: String,
+    pub positions: Vec<Vec3>,
+    pub normals: Vec<Vec3>,
+    pub uvs: Vec<Vec2>,
+    pub indices: Vec<[u32; 3]>,
+}
+
+impl MeshData {
+    /// The square [-1,1]^2 in the z = 0 plane, front face (normal) +z, as two triangles (0,1,2), (0,2,3).
+    pub fn unit_quad() -> Self {
+        Self::quad(
+            "quad",
+            [
+                Vec3::new(-1., -1., 0.),
+                Vec3::new(1., -1., 0.),
+                Vec3::new(1., 1., 0.),
+                Vec3::new(-1., 1., 0.),
+            ],
+        )
+    }
+
+    /// A quad from four corners in counter-clockwise order seen from its front; triangles (0,1,2), (0,2,3).
+    pub fn quad(name: &str, corners: [Vec3; 4]) -> Self {
+        MeshData {
+            name: name.to_string(),
+            positions: corners.to_vec(),
+            normals: vec![],
+            uvs: vec![
+                Vec2::new(0., 0.),
+                Vec2::new(1., 0.),
+                Vec2::new(1., 1.),
+                Vec2::new(0., 1.),
+            ],
+            indices: vec![[0, 1, 2], [0, 2, 3]],
+        }
+    }
+
+    /// The cube [-1,1]^3 as 12 triangles with outward normals (flat faces).
+    pub fn unit_cube() -> Self {
+        let mut positions = Vec::with_capacity(24);
+        let mut indices = Vec::with_capacity(12);
+        // Each face: outward axis n, and two in-plane axes (u, v) with u x v = n.
+        let faces = [
+            (Vec3::X, Vec3::Y, Vec3::Z),
+            (-Vec3::X, Vec3::Z, Vec3::Y),
+            (Vec3::Y, Vec3::Z, Vec3::X),
+            (-Vec3::Y, Vec3::X, Vec3::Z),
+            (Vec3::Z, Vec3::X, Vec3::Y),
+            (-Vec3::Z, Vec3::Y, Vec3::X),
+        ];
+        for (n, u, v) in faces {
+            let base = positions.len() as u32;
+            for (a, b) in [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)] {
+                positions.push(n + u * a + v * b);
+            }
+            indices.push([base, base + 1, base + 2]);
+            indices.push([base, base + 2, base + 3]);
+        }
+        MeshData {
+            name: "cube".into(),
+            positions,
+            normals: vec![],
+            uvs: vec![],
+            indices,
+        }
+    }
+}
+
+/// All meshes of a scene (the loader shares one mesh between entities that reference the same file).
+#[derive(Default, Debug)]
+pub struct MeshStore {
+    meshes: Vec<Arc<MeshData>>,
+}
+
+impl MeshStore {
+    pub fn add(&mut self, mesh: MeshData) -> MeshHandle {
+        self.meshes.push(Arc::new(mesh));
+        MeshHandle(self.meshes.len() as u32 - 1)
+    }
+
+    pub fn get(&self, h: MeshHandle) -> &MeshData {
+        &self.meshes[h.0 as usize]
+    }
+
+    pub fn len(&self) -> usize {
+        self.meshes.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.meshes.is_empty()
+    }
+}

@@ -1,0 +1,469 @@
+//! Primitives: the scene's shapes flattened into world-space arrays, built once in the BuildAccel stage from the
+//! entities' `Shape`, `WorldFromLocal`, `MaterialId` and `Light::Area` components. Accelerators index them.
+//!
+//! Primitive ids form one range: triangles `[0, T)`, then spheres `[T, T+S)`, then planes `[T+S, T+S+P)`.
+//! Triangles are stored with their vertices already transformed (exact world-space vertices); a sphere keeps its
+//! object-space centre and radius with the composed transform, and is intersected in object space (a sphere under
+//! a non-uniform scale is an ellipsoid) unless the transform is a similarity, in which case it is stored as a
+//! world-space sphere. Planes are unbounded and are never put in an accelerator.
+
+use crate::components::{Light, MaterialId, Shape, WorldFromLocal};
+use crate::error::{PrismError, Result};
+use crate::geometry::{Bounds, Ray, WatertightRay, intersect_plane, intersect_sphere};
+use crate::mesh::MeshStore;
+use glam::{Affine3A, Mat3A, Vec2, Vec3, Vec3A};
+
+/// Marks "no area light" in `light` fields.
+pub const NO_LIGHT: u32 = u32::MAX;
+
+/// Shading data of one triangle (kept apart from the vertices so traversal touches only positions).
+#[derive(Clone, Copy, Debug)]
+pub struct TriShading {
+    /// Vertex normals in world space (unit), if the mesh has them.
+    pub normals: Option<[Vec3A; 3]>,
+    pub uvs: [Vec2; 3],
+    pub material: u32,
+    pub light: u32,
+}
+
+#[derive(Clone, Copy, Debug)]
+pub struct SphereGeom {
+    /// Centre and radius in the sphere's frame (world space when `world_from_object` is `None`).
+    pub center: Vec3A,
+    pub radius: f32,
+    /// Present for non-similarity transforms (ellipsoids): intersect in object space.
+    pub transform: Option<SphereTransform>,
+    pub material: u32,
+    pub light: u32,
+}
+
+#[derive(Clone, Copy, Debug)]
+pub struct SphereTransform {
+    pub world_from_object: Affine3A,
+    pub object_from_world: Affine3A,
+    /// Inverse transpose of the linear part: maps object normals to world normals (then normalise).
+    pub normal_to_world: Mat3A,
+}
+
+#[derive(Clone, Copy, Debug)]
+pub struct PlaneGeom {
+    pub normal: Vec3A,
+    pub offset: f32,
+    pub material: u32,
+}
+
+/// A closest hit found by an accelerator. For triangles `b1`, `b2` are the barycentric weights of vertices 1 and
+/// 2; unused otherwise.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Hit {
+    pub t: f32,
+    pub prim: u32,
+    pub b1: f32,
+    pub b2: f32,
+}
+
+/// Everything an integrator needs to know about a surface point.
+#[derive(Clone, Copy, Debug)]
+pub struct SurfaceHit {
+    pub p: Vec3A,
+    /// Geometric normal (unit), oriented by the primitive (triangle winding, sphere outward, plane normal).
+    pub ng: Vec3A,
+    /// Shading normal (unit), on the same side as `ng`.
+    pub ns: Vec3A,
+    pub uv: Vec2,
+    pub t: f32,
+    pub prim: u32,
+    pub material: u32,
+    pub light: u32,
+}
+
+#[derive(Clone, Debug, Default)]
+pub struct Primitives {
+    pub tris: Vec<[Vec3A; 3]>,
+    pub tri_shading: Vec<TriShading>,
+    pub spheres: Vec<SphereGeom>,
+    pub planes: Vec<PlaneGeom>,
+    /// Bounds of the bounded primitives (triangles and spheres).
+    pub bounds: Bounds,
+    /// Degenerate (zero-area or non-finite) mesh triangles that were skipped.
+    pub skipped_degenerate: usize,
+}
+
+/// The primitive range one entity produced (used to attach area lights).
+#[derive(Clone, Copy, Debug)]
+pub struct EntityPrims {
+    pub first_tri: u32,
+    pub tri_count: u32,
+    pub sphere: Option<u32>,
+}
+
+impl Primitives {
+    #[inline]
+    pub fn num_tris(&self) -> u32 {
+        self.tris.len() as u32
+    }
+
+    /// Triangles + spheres: the primitives accelerators hold.
+    #[inline]
+    pub fn num_bounded(&self) -> u32 {
+        (self.tris.len() + self.spheres.len()) as u32
+    }
+
+    pub fn num_total(&self) -> u32 {
+        self.num_bounded() + self.planes.len() as u32
+    }
+
+    /// World bounds of bounded primitive `id`.
+    pub fn prim_bounds(&self, id: u32) -> Bounds {
+        let nt = self.num_tris();
+        if id < nt {
+            Bounds::from_points(&self.tris[id as usize])
+        } else {
+            let s = &self.spheres[(id - nt) as usize];
+            let local = Bounds::new(
+                s.center - Vec3A::splat(s.radius),
+                s.center + Vec3A::splat(s.radius),
+            );
+            match &s.transform {
+                None => local,
+                Some(t) => local.transformed(&t.world_from_object),
+            }
+        }
+    }
+
+    /// Intersect bounded primitive `id`; `wt` is the ray's watertight precomputation.
+    #[inline(always)]
+    pub fn intersect_bounded(&self, id: u32, ray: &Ray, wt: &WatertightRay) -> Option<Hit> {
+        let nt = self.num_tris();
+        if id < nt {
+            let [p0, p1, p2] = self.tris[id as usize];
+            wt.intersect(p0, p1, p2, ray.tmax).map(|h| Hit {
+                t: h.t,
+                prim: id,
+                b1: h.b1,
+                b2: h.b2,
+            })
+        } else {
+            self.intersect_sphere(id, ray)
+        }
+    }
+
+    #[inline]
+    pub fn intersect_sphere(&self, id: u32, ray: &Ray) -> Option<Hit> {
+        let s = &self.spheres[(id - self.num_tris()) as usize];
+        let t = match &s.transform {
+            None => intersect_sphere(s.center, s.radius, ray.origin, ray.dir, ray.tmax),
+            Some(x) => intersect_sphere(
+                s.center,
+                s.radius,
+                x.object_from_world.transform_point3a(ray.origin),
+                x.object_from_world.transform_vector3a(ray.dir),
+                ray.tmax,
+            ),
+        }?;
+        Some(Hit {
+            t,
+            prim: id,
+            b1: 0.0,
+            b2: 0.0,
+        })
+    }
+
+    /// Closest plane hit closer than `ray.tmax`.
+    #[inline]
+    pub fn intersect_planes(&self, ray: &Ray) -> Option<Hit> {
+        let base = self.num_bounded();
+        let mut best: Option<Hit> = None;
+        let mut tmax = ray.tmax;
+        for (i, p) in self.planes.iter().enumerate() {
+            if let Some(t) = intersect_plane(p.normal, p.offset, &Ray { tmax, ..*ray }) {
+                tmax = t;
+                best = Some(Hit {
+                    t,
+                    prim: base + i as u32,
+                    b1: 0.0,
+                    b2: 0.0,
+                });
+            }
+        }
+        best
+    }
+
+    /// True when some plane blocks the ray before `ray.tmax`.
+    #[inline]
+    pub fn planes_occlude(&self, ray: &Ray) -> bool {
+        self.planes
+            .iter()
+            .any(|p| intersect_plane(p.normal, p.offset, ray).is_some())
+    }
+
+    /// Surface data at a hit.
+    pub fn surface(&self, ray: &Ray, hit: &Hit) -> SurfaceHit {
+        let nt = self.num_tris();
+        let ns_ = self.spheres.len() as u32;
+        if hit.prim < nt {
+            let [p0, p1, p2] = self.tris[hit.prim as usize];
+            let sh = &self.tri_shading[hit.prim as usize];
+            let b0 = 1.0 - hit.b1 - hit.b2;
+            // Interpolating the vertices is more accurate than o + t d (Wächter & Binder).
+            let p = b0 * p0 + hit.b1 * p1 + hit.b2 * p2;
+            let ng = (p1 - p0).cross(p2 - p0).normalize();
+            let ns = match sh.normals {
+                Some([n0, n1, n2]) => {
+                    let n = (b0 * n0 + hit.b1 * n1 + hit.b2 * n2).normalize_or_zero();
+                    if n == Vec3A::ZERO {
+                        ng
+                    } else if n.dot(ng) < 0.0 {
+                        -n
+                    } else {
+                        n
+                    }
+                }
+                None => ng,
+            };
+            let uv = b0 * sh.uvs[0] + hit.b1 * sh.uvs[1] + hit.b2 * sh.uvs[2];
+            SurfaceHit {
+                p,
+                ng,
+                ns,
+                uv,
+                t: hit.t,
+                prim: hit.prim,
+                material: sh.material,
+                light: sh.light,
+            }
+        } else if hit.prim < nt + ns_ {
+            let s = &self.spheres[(hit.prim - nt) as usize];
+            let (p, n) = match &s.transform {
+                None => {
+                    let n = (ray.at(hit.t) - s.center).normalize();
+                    (s.center + n * s.radius, n)
+                }
+                Some(x) => {
+                    let po = x.object_from_world.transform_point3a(ray.origin)
+                        + x.object_from_world.transform_vector3a(ray.dir) * hit.t;
+                    let no = (po - s.center).normalize();
+                    let p = x
+                        .world_from_object
+                        .transform_point3a(s.center + no * s.radius);
+                    (p, (x.normal_to_world * no).normalize())
+                }
+            };
+            let uv = sphere_uv(n);
+            SurfaceHit {
+                p,
+                ng: n,
+                ns: n,
+                uv,
+                t: hit.t,
+                prim: hit.prim,
+                material: s.material,
+                light: s.light,
+            }
+        } else {
+            let pl = &self.planes[(hit.prim - nt - ns_) as usize];
+            let mut p = ray.at(hit.t);
+            p -= (pl.normal.dot(p) - pl.offset) * pl.normal;
+            SurfaceHit {
+                p,
+                ng: pl.normal,
+                ns: pl.normal,
+                uv: Vec2::ZERO,
+                t: hit.t,
+                prim: hit.prim,
+                material: pl.material,
+                light: NO_LIGHT,
+            }
+        }
+    }
+
+    /// Flatten every entity with a shape. Returns the primitives and, per entity with an area light, its prims.
+    pub fn build(
+        world: &hecs::World,
+        meshes: &MeshStore,
+        num_materials: u32,
+    ) -> Result<(Self, Vec<(hecs::Entity, EntityPrims)>)> {
+        let mut prims = Primitives::default();
+        let mut emitters = Vec::new();
+        let mut q = world.query::<(
+            hecs::Entity,
+            &Shape,
+            Option<&WorldFromLocal>,
+            Option<&MaterialId>,
+            Option<&Light>,
+        )>();
+        let mut items: Vec<_> = q.iter().collect();
+        // Entity order is deterministic already; sort by id so the primitive order does not depend on archetypes.
+        items.sort_by_key(|(e, ..)| e.id());
+        for (entity, shape, wfl, mat, light) in items {
+            let m = wfl.map(|w| w.0).unwrap_or(Affine3A::IDENTITY);
+            let material = mat
+                .map(|m| m.0)
+                .unwrap_or(0)
+                .min(num_materials.saturating_sub(1));
+            let emits = matches!(light, Some(Light::Area { .. }));
+            let light_slot = if emits {
+                emitters.len() as u32
+            } else {
+                NO_LIGHT
+            };
+            let first_tri = prims.num_tris();
+            let mut sphere = None;
+            let name = || crate::load::entity_label(world, entity);
+            match shape {
+                Shape::Sphere { center, radius } => {
+                    sphere = Some(prims.spheres.len() as u32);
+                    prims.spheres.push(make_sphere(
+                        &m,
+                        (*center).into(),
+                        *radius,
+                        material,
+                        light_slot,
+                    ));
+                }
+                Shape::Plane { normal, offset } => {
+                    if emits {
+                        return Err(PrismError::scene(
+                            name(),
+                            "a plane cannot be an area light (its area is infinite)",
+                        ));
+                    }
+                    // n.x = d in local space; world: n' = M^-T n, d' = n' . (M p0) for a point p0 on the plane.
+                    let n_local = Vec3A::from(*normal).normalize();
+                    let p0 = n_local * *offset;
+                    let inv_t = m.matrix3.inverse().transpose();
+                    let n_world = (inv_t * n_local).normalize();
+                    let off = n_world.dot(m.transform_point3a(p0));
+                    prims.planes.push(PlaneGeom {
+                        normal: n_world,
+                        offset: off,
+                        material,
+                    });
+                }
+                Shape::Triangle { p, n, uv } => {
+                    let v = p.map(|q| m.transform_point3a(q.into()));
+                    if !is_valid_triangle(&v) {
+                        return Err(PrismError::scene(
+                            name(),
+                            "triangle has zero area (or non-finite vertices)",
+                        ));
+                    }
+                    let normals = n.map(|n| n.map(|q| transform_normal(&m, q.into())));
+                    prims.tris.push(v);
+                    prims.tri_shading.push(TriShading {
+                        normals,
+                        uvs: uv.unwrap_or([Vec2::ZERO, Vec2::X, Vec2::Y]),
+                        material,
+                        light: light_slot,
+                    });
+                }
+                Shape::Mesh(h) => {
+                    let mesh = meshes.get(*h);
+                    let world_pos: Vec<Vec3A> = mesh
+                        .positions
+                        .iter()
+                        .map(|&q| m.transform_point3a(q.into()))
+                        .collect();
+                    let world_n: Vec<Vec3A> = mesh
+                        .normals
+                        .iter()
+                        .map(|&q| transform_normal(&m, q.into()))
+                        .collect();
+                    for idx in &mesh.indices {
+                        let v = idx.map(|i| world_pos[i as usize]);
+                        if !is_valid_triangle(&v) {
+                            prims.skipped_degenerate += 1;
+                            continue;
+                        }
+                        let normals =
+                            (!world_n.is_empty()).then(|| idx.map(|i| world_n[i as usize]));
+                        let uvs = if mesh.uvs.is_empty() {
+                            [Vec2::ZERO, Vec2::X, Vec2::Y]
+                        } else {
+                            idx.map(|i| mesh.uvs[i as usize])
+                        };
+                        prims.tris.push(v);
+                        prims.tri_shading.push(TriShading {
+                            normals,
+                            uvs,
+                            material,
+                            light: light_slot,
+                        });
+                    }
+                }
+            }
+            if emits {
+                let tri_count = prims.num_tris() - first_tri;
+                if tri_count == 0 && sphere.is_none() {
+                    return Err(PrismError::scene(
+                        name(),
+                        "area light has no surface (all triangles degenerate)",
+                    ));
+                }
+                emitters.push((
+                    entity,
+                    EntityPrims {
+                        first_tri,
+                        tri_count,
+                        sphere,
+                    },
+                ));
+            }
+        }
+        prims.bounds =
+            (0..prims.num_bounded()).fold(Bounds::EMPTY, |b, i| b.union(prims.prim_bounds(i)));
+        Ok((prims, emitters))
+    }
+}
+
+fn is_valid_triangle(v: &[Vec3A; 3]) -> bool {
+    v.iter().all(|p| p.is_finite()) && (v[1] - v[0]).cross(v[2] - v[0]).length_squared() > 0.0
+}
+
+fn transform_normal(m: &Affine3A, n: Vec3A) -> Vec3A {
+    (m.matrix3.inverse().transpose() * n).normalize_or_zero()
+}
+
+/// A sphere under `m`: stored in world space if `m` is a similarity (rotation, uniform scale, translation),
+/// otherwise kept in object space with the transform (an ellipsoid).
+fn make_sphere(m: &Affine3A, center: Vec3A, radius: f32, material: u32, light: u32) -> SphereGeom {
+    let l = m.matrix3;
+    let (sx, sy, sz) = (l.x_axis.length(), l.y_axis.length(), l.z_axis.length());
+    let orthogonal = l.x_axis.dot(l.y_axis).abs() < 1e-6 * sx * sy
+        && l.y_axis.dot(l.z_axis).abs() < 1e-6 * sy * sz
+        && l.z_axis.dot(l.x_axis).abs() < 1e-6 * sz * sx;
+    let uniform = (sx - sy).abs() <= 1e-6 * sx && (sy - sz).abs() <= 1e-6 * sy;
+    if orthogonal && uniform {
+        return SphereGeom {
+            center: m.transform_point3a(center),
+            radius: radius * sx,
+            transform: None,
+            material,
+            light,
+        };
+    }
+    let inv = m.inverse();
+    SphereGeom {
+        center,
+        radius,
+        transform: Some(SphereTransform {
+            world_from_object: *m,
+            object_from_world: inv,
+            normal_to_world: inv.matrix3.transpose(),
+        }),
+        material,
+        light,
+    }
+}
+
+/// Spherical (u, v) in [0,1]^2 from a unit normal: u around +y, v from the south pole.
+fn sphere_uv(n: Vec3A) -> Vec2 {
+    let u = 0.5 + n.z.atan2(n.x) / (2.0 * std::f32::consts::PI);
+    let v = 0.5 + n.y.clamp(-1.0, 1.0).asin() / std::f32::consts::PI;
+    Vec2::new(u, v)
+}
+
+/// World-space position of the local point `p` (used by lights).
+pub fn world_point(m: &Affine3A, p: Vec3) -> Vec3A {
+    m.transform_point3a(p.into())
+}

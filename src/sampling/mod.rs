@@ -1,0 +1,27 @@
+//! Random numbers and sample distributions: a PCG32 generator seeded per (seed, pixel, pass) so images do not
+//! depend on thread scheduling, pixel sample patterns (RGSS, stratified jitter, independent), and warps from the
+//! unit square to the domains integrators need, each with its exact pdf (tested by chi-square in `tests/sampling`).
+
+mod pattern;
+mod permute;
+mod rng;
+pub mod warp;
+
+pub use pattern::PixelPattern;
+pub use permute::permute;
+pub use rng::{Rng, hash_u64};
+
+/// Stratified 2D points for `count` samples: the unit square is cut into `n x n` strata with `n = ceil(sqrt(count))`,
+/// sample `i` takes the `i`-th stratum of a random permutation and jitters inside it. Every sample is uniform on the
+/// square on its own (so any `count` is unbiased), and a perfect square `count` gives full n x n stratification.
+#[inline]
+pub fn stratified_2d(i: u32, count: u32, scramble: u32, rng: &mut Rng) -> glam::Vec2 {
+    let n = (count as f32).sqrt().ceil().max(1.0) as u32;
+    let cells = n * n;
+    let cell = permute(i, cells, scramble);
+    let (cx, cy) = (cell % n, cell / n);
+    glam::Vec2::new(
+        (cx as f32 + rng.next_f32()) / n as f32,
+        (cy as f32 + rng.next_f32()) / n as f32,
+    )
+}

@@ -1,0 +1,111 @@
+//! Warps from the unit square `[0,1)^2` to the domains integrators sample, each paired with its pdf in the
+//! measure named in its doc (solid angle unless stated). Local frames have the normal along +z.
+
+use glam::{Vec2, Vec3A};
+use std::f32::consts::{FRAC_1_PI, FRAC_PI_2, FRAC_PI_4, PI};
+
+const INV_4PI: f32 = 0.25 * FRAC_1_PI;
+const INV_2PI: f32 = 0.5 * FRAC_1_PI;
+
+/// Uniform direction on the unit sphere.
+#[inline]
+pub fn uniform_sphere(u: Vec2) -> Vec3A {
+    let z = 1.0 - 2.0 * u.x;
+    let r = (1.0 - z * z).max(0.0).sqrt();
+    let phi = 2.0 * PI * u.y;
+    Vec3A::new(r * phi.cos(), r * phi.sin(), z)
+}
+
+#[inline]
+pub fn uniform_sphere_pdf() -> f32 {
+    INV_4PI
+}
+
+/// Uniform direction on the hemisphere z >= 0.
+#[inline]
+pub fn uniform_hemisphere(u: Vec2) -> Vec3A {
+    let z = u.x;
+    let r = (1.0 - z * z).max(0.0).sqrt();
+    let phi = 2.0 * PI * u.y;
+    Vec3A::new(r * phi.cos(), r * phi.sin(), z)
+}
+
+#[inline]
+pub fn uniform_hemisphere_pdf(local: Vec3A) -> f32 {
+    if local.z >= 0.0 { INV_2PI } else { 0.0 }
+}
+
+/// Shirley–Chiu concentric map from the square to the unit disk (area preserving, low distortion).
+#[inline]
+pub fn concentric_disk(u: Vec2) -> Vec2 {
+    let o = 2.0 * u - Vec2::ONE;
+    if o.x == 0.0 && o.y == 0.0 {
+        return Vec2::ZERO;
+    }
+    let (r, theta) = if o.x.abs() > o.y.abs() {
+        (o.x, FRAC_PI_4 * (o.y / o.x))
+    } else {
+        (o.y, FRAC_PI_2 - FRAC_PI_4 * (o.x / o.y))
+    };
+    Vec2::new(r * theta.cos(), r * theta.sin())
+}
+
+/// Cosine-weighted direction on the hemisphere z >= 0 (Malley's method).
+#[inline]
+pub fn cosine_hemisphere(u: Vec2) -> Vec3A {
+    let d = concentric_disk(u);
+    let z = (1.0 - d.x * d.x - d.y * d.y).max(0.0).sqrt();
+    Vec3A::new(d.x, d.y, z)
+}
+
+#[inline]
+pub fn cosine_hemisphere_pdf(local: Vec3A) -> f32 {
+    local.z.max(0.0) * FRAC_1_PI
+}
+
+/// Direction around +z with density proportional to `cos^exponent` of the angle to +z (the Phong lobe).
+#[inline]
+pub fn phong_lobe(u: Vec2, exponent: f32) -> Vec3A {
+    let z = u.x.powf(1.0 / (exponent + 1.0));
+    let r = (1.0 - z * z).max(0.0).sqrt();
+    let phi = 2.0 * PI * u.y;
+    Vec3A::new(r * phi.cos(), r * phi.sin(), z)
+}
+
+/// Pdf of [`phong_lobe`]: (n + 1) / (2 pi) cos^n.
+#[inline]
+pub fn phong_lobe_pdf(local: Vec3A, exponent: f32) -> f32 {
+    if local.z <= 0.0 {
+        0.0
+    } else {
+        (exponent + 1.0) * INV_2PI * local.z.powf(exponent)
+    }
+}
+
+/// Uniform direction inside the cone of half-angle acos(cos_max) around +z.
+#[inline]
+pub fn uniform_cone(u: Vec2, cos_max: f32) -> Vec3A {
+    let z = 1.0 - u.x * (1.0 - cos_max);
+    let r = (1.0 - z * z).max(0.0).sqrt();
+    let phi = 2.0 * PI * u.y;
+    Vec3A::new(r * phi.cos(), r * phi.sin(), z)
+}
+
+#[inline]
+pub fn uniform_cone_pdf(cos_max: f32) -> f32 {
+    1.0 / (2.0 * PI * (1.0 - cos_max))
+}
+
+/// Uniform point on a triangle as barycentric weights `(b0, b1, b2)`; pdf 1/area in area measure.
+/// Uses Heitz's low-distortion square-to-triangle map (2019), which keeps strata compact.
+#[inline]
+pub fn uniform_triangle(u: Vec2) -> (f32, f32, f32) {
+    let (b0, b1) = if u.x < u.y {
+        let b0 = u.x / 2.0;
+        (b0, u.y - b0)
+    } else {
+        let b1 = u.y / 2.0;
+        (u.x - b1, b1)
+    };
+    (b0, b1, 1.0 - b0 - b1)
+}

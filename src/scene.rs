@@ -1,0 +1,63 @@
+//! The render-time scene integrators see: camera, primitives, accelerator, lights, materials and scene globals,
+//! flattened out of the ECS world by the BuildAccel and Prepare stages. Read-only while rendering, shared by all
+//! threads.
+
+use crate::accel::Accel;
+use crate::app::SceneGlobals;
+use crate::camera::CameraRig;
+use crate::geometry::Ray;
+use crate::lights::LightSet;
+use crate::material::Material;
+use crate::primitives::{Hit, NO_LIGHT, Primitives, SurfaceHit};
+use glam::{Vec3, Vec3A};
+
+pub struct Scene {
+    pub camera: CameraRig,
+    pub prims: Primitives,
+    pub accel: Accel,
+    pub lights: LightSet,
+    pub materials: Vec<Material>,
+    pub globals: SceneGlobals,
+}
+
+impl Scene {
+    /// Closest hit along the ray (accelerator for bounded primitives, then the unbounded planes).
+    #[inline]
+    pub fn intersect(&self, ray: &Ray) -> Option<Hit> {
+        let hit = self.accel.intersect(&self.prims, ray);
+        if self.prims.planes.is_empty() {
+            return hit;
+        }
+        let r = Ray {
+            tmax: hit.map_or(ray.tmax, |h| h.t),
+            ..*ray
+        };
+        self.prims.intersect_planes(&r).or(hit)
+    }
+
+    /// True when anything blocks the ray before `ray.tmax`.
+    #[inline]
+    pub fn occluded(&self, ray: &Ray) -> bool {
+        self.prims.planes_occlude(ray) || self.accel.occluded(&self.prims, ray)
+    }
+
+    /// Closest hit with its surface data.
+    #[inline]
+    pub fn trace(&self, ray: &Ray) -> Option<SurfaceHit> {
+        self.intersect(ray).map(|h| self.prims.surface(ray, &h))
+    }
+
+    #[inline]
+    pub fn material(&self, id: u32) -> &Material {
+        &self.materials[id as usize]
+    }
+
+    /// Radiance emitted by the surface at `s` towards `wo` (unit, pointing away from the surface).
+    #[inline]
+    pub fn emitted(&self, s: &SurfaceHit, wo: Vec3A) -> Vec3 {
+        if s.light == NO_LIGHT {
+            return Vec3::ZERO;
+        }
+        self.lights.area_radiance(s.light, s.ng, wo)
+    }
+}
