@@ -58,10 +58,7 @@ impl CameraRig {
         if self.ortho {
             Ray::new(self.eye + self.right * x + self.up * y, self.forward)
         } else {
-            Ray::new(
-                self.eye,
-                (self.forward + self.right * x + self.up * y).normalize(),
-            )
+            Ray::new(self.eye, (self.forward + self.right * x + self.up * y).normalize())
         }
     }
 

@@ -43,25 +43,16 @@ pub enum PrismError {
 
 impl PrismError {
     pub fn scene(context: impl Into<String>, message: impl Into<String>) -> Self {
-        PrismError::Scene {
-            context: context.into(),
-            message: message.into(),
-        }
+        PrismError::Scene { context: context.into(), message: message.into() }
     }
     pub fn invalid(message: impl Into<String>) -> Self {
         PrismError::Invalid(message.into())
     }
     pub fn io(path: impl Into<PathBuf>, source: std::io::Error) -> Self {
-        PrismError::Io {
-            path: path.into(),
-            source,
-        }
+        PrismError::Io { path: path.into(), source }
     }
     pub fn format(path: impl Into<PathBuf>, message: impl Into<String>) -> Self {
-        PrismError::Format {
-            path: path.into(),
-            message: message.into(),
-        }
+        PrismError::Format { path: path.into(), message: message.into() }
     }
 }
 

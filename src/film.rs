@@ -17,13 +17,7 @@ pub struct Film {
 impl Film {
     pub fn new(width: u32, height: u32) -> Self {
         let n = width as usize * height as usize;
-        Film {
-            width,
-            height,
-            sum: vec![DVec3::ZERO; n],
-            count: vec![0; n],
-            nonfinite: 0,
-        }
+        Film { width, height, sum: vec![DVec3::ZERO; n], count: vec![0; n], nonfinite: 0 }
     }
 
     pub fn add_tile(&mut self, t: &TileSamples) {
@@ -56,11 +50,7 @@ impl Film {
     /// Mean radiance of a pixel (0 if it has no samples yet).
     pub fn pixel(&self, x: u32, y: u32) -> Vec3 {
         let i = (y * self.width + x) as usize;
-        if self.count[i] == 0 {
-            Vec3::ZERO
-        } else {
-            (self.sum[i] / self.count[i] as f64).as_vec3()
-        }
+        if self.count[i] == 0 { Vec3::ZERO } else { (self.sum[i] / self.count[i] as f64).as_vec3() }
     }
 
     /// The current image, row-major from the top-left pixel.
@@ -68,18 +58,14 @@ impl Film {
         self.sum
             .iter()
             .zip(&self.count)
-            .map(|(s, &c)| {
-                if c == 0 {
-                    Vec3::ZERO
-                } else {
-                    (*s / c as f64).as_vec3()
-                }
-            })
+            .map(|(s, &c)| if c == 0 { Vec3::ZERO } else { (*s / c as f64).as_vec3() })
             .collect()
     }
 
-    /// Fewest samples any pixel has.
-    pub fn min_samples(&self) -> u64 {
-        self.count.iter().copied().min().unwrap_or(0)
+    /// Fewest and most samples any pixel has (they differ after a pass cut short).
+    pub fn sample_range(&self) -> (u64, u64) {
+        let min = self.count.iter().copied().min().unwrap_or(0);
+        let max = self.count.iter().copied().max().unwrap_or(0);
+        (min, max)
     }
 }

@@ -52,10 +52,7 @@ impl Material {
     }
 
     pub fn lambert(name: &str, albedo: Vec3) -> Self {
-        Material {
-            diffuse: albedo,
-            ..Material::black(name)
-        }
+        Material { diffuse: albedo, ..Material::black(name) }
     }
 
     /// True when the material has a non-delta lobe (something light sampling can illuminate).

@@ -19,12 +19,7 @@ impl MeshData {
     pub fn unit_quad() -> Self {
         Self::quad(
             "quad",
-            [
-                Vec3::new(-1., -1., 0.),
-                Vec3::new(1., -1., 0.),
-                Vec3::new(1., 1., 0.),
-                Vec3::new(-1., 1., 0.),
-            ],
+            [Vec3::new(-1., -1., 0.), Vec3::new(1., -1., 0.), Vec3::new(1., 1., 0.), Vec3::new(-1., 1., 0.)],
         )
     }
 
@@ -34,12 +29,7 @@ impl MeshData {
             name: name.to_string(),
             positions: corners.to_vec(),
             normals: vec![],
-            uvs: vec![
-                Vec2::new(0., 0.),
-                Vec2::new(1., 0.),
-                Vec2::new(1., 1.),
-                Vec2::new(0., 1.),
-            ],
+            uvs: vec![Vec2::new(0., 0.), Vec2::new(1., 0.), Vec2::new(1., 1.), Vec2::new(0., 1.)],
             indices: vec![[0, 1, 2], [0, 2, 3]],
         }
     }
@@ -65,13 +55,7 @@ impl MeshData {
             indices.push([base, base + 1, base + 2]);
             indices.push([base, base + 2, base + 3]);
         }
-        MeshData {
-            name: "cube".into(),
-            positions,
-            normals: vec![],
-            uvs: vec![],
-            indices,
-        }
+        MeshData { name: "cube".into(), positions, normals: vec![], uvs: vec![], indices }
     }
 }
 

@@ -9,7 +9,8 @@
 
 use crate::components::{Light, MaterialId, Shape, WorldFromLocal};
 use crate::error::{PrismError, Result};
-use crate::geometry::{Bounds, Ray, WatertightRay, intersect_plane, intersect_sphere};
+use crate::geometry::{Bounds, Ray, WatertightRay, gamma, intersect_plane, intersect_sphere, spawn_ray, spawn_ray_to};
+use crate::lights::LightSample;
 use crate::mesh::MeshStore;
 use glam::{Affine3A, Mat3A, Vec2, Vec3, Vec3A};
 
@@ -66,6 +67,8 @@ pub struct Hit {
 #[derive(Clone, Copy, Debug)]
 pub struct SurfaceHit {
     pub p: Vec3A,
+    /// Conservative absolute floating-point error bound of `p`, per coordinate (for robust ray spawning).
+    pub p_err: Vec3A,
     /// Geometric normal (unit), oriented by the primitive (triangle winding, sphere outward, plane normal).
     pub ng: Vec3A,
     /// Shading normal (unit), on the same side as `ng`.
@@ -97,6 +100,45 @@ pub struct EntityPrims {
     pub sphere: Option<u32>,
 }
 
+impl SurfaceHit {
+    /// A ray leaving this point in unit direction `dir`, offset off the surface.
+    #[inline]
+    pub fn spawn(&self, dir: Vec3A) -> Ray {
+        spawn_ray(self.p, self.p_err, self.ng, dir)
+    }
+
+    /// A shadow ray from this point to a light sample (both ends offset off their surfaces).
+    #[inline]
+    pub fn spawn_to(&self, ls: &LightSample) -> Ray {
+        if ls.dist.is_finite() {
+            spawn_ray_to(self.p, self.p_err, self.ng, ls.p, ls.p_err, ls.n)
+        } else {
+            self.spawn(ls.wi)
+        }
+    }
+}
+
+/// Error bound of a barycentric combination `b0 p0 + b1 p1 + b2 p2` (pbrt-v4: gamma(7) times the sum of magnitudes).
+#[inline]
+pub fn interpolation_error(b: [f32; 3], p: &[Vec3A; 3]) -> Vec3A {
+    gamma(7) * ((b[0] * p[0]).abs() + (b[1] * p[1]).abs() + (b[2] * p[2]).abs())
+}
+
+/// Error bound of the point `c + r n` reprojected onto a sphere, then mapped by `transform` (if any).
+#[inline]
+pub fn sphere_point_error(center: Vec3A, rn: Vec3A, transform: Option<&SphereTransform>) -> Vec3A {
+    let err_o = gamma(6) * (center.abs() + rn.abs());
+    match transform {
+        None => err_o,
+        Some(x) => {
+            let m = x.world_from_object.matrix3;
+            let abs_m = Mat3A::from_cols(m.x_axis.abs(), m.y_axis.abs(), m.z_axis.abs());
+            let po = center + rn;
+            (1.0 + gamma(3)) * (abs_m * err_o) + gamma(3) * (abs_m * po.abs() + x.world_from_object.translation.abs())
+        }
+    }
+}
+
 impl Primitives {
     #[inline]
     pub fn num_tris(&self) -> u32 {
@@ -120,10 +162,7 @@ impl Primitives {
             Bounds::from_points(&self.tris[id as usize])
         } else {
             let s = &self.spheres[(id - nt) as usize];
-            let local = Bounds::new(
-                s.center - Vec3A::splat(s.radius),
-                s.center + Vec3A::splat(s.radius),
-            );
+            let local = Bounds::new(s.center - Vec3A::splat(s.radius), s.center + Vec3A::splat(s.radius));
             match &s.transform {
                 None => local,
                 Some(t) => local.transformed(&t.world_from_object),
@@ -137,12 +176,7 @@ impl Primitives {
         let nt = self.num_tris();
         if id < nt {
             let [p0, p1, p2] = self.tris[id as usize];
-            wt.intersect(p0, p1, p2, ray.tmax).map(|h| Hit {
-                t: h.t,
-                prim: id,
-                b1: h.b1,
-                b2: h.b2,
-            })
+            wt.intersect(p0, p1, p2, ray.tmax).map(|h| Hit { t: h.t, prim: id, b1: h.b1, b2: h.b2 })
         } else {
             self.intersect_sphere(id, ray)
         }
@@ -161,12 +195,7 @@ impl Primitives {
                 ray.tmax,
             ),
         }?;
-        Some(Hit {
-            t,
-            prim: id,
-            b1: 0.0,
-            b2: 0.0,
-        })
+        Some(Hit { t, prim: id, b1: 0.0, b2: 0.0 })
     }
 
     /// Closest plane hit closer than `ray.tmax`.
@@ -178,12 +207,7 @@ impl Primitives {
         for (i, p) in self.planes.iter().enumerate() {
             if let Some(t) = intersect_plane(p.normal, p.offset, &Ray { tmax, ..*ray }) {
                 tmax = t;
-                best = Some(Hit {
-                    t,
-                    prim: base + i as u32,
-                    b1: 0.0,
-                    b2: 0.0,
-                });
+                best = Some(Hit { t, prim: base + i as u32, b1: 0.0, b2: 0.0 });
             }
         }
         best
@@ -192,9 +216,7 @@ impl Primitives {
     /// True when some plane blocks the ray before `ray.tmax`.
     #[inline]
     pub fn planes_occlude(&self, ray: &Ray) -> bool {
-        self.planes
-            .iter()
-            .any(|p| intersect_plane(p.normal, p.offset, ray).is_some())
+        self.planes.iter().any(|p| intersect_plane(p.normal, p.offset, ray).is_some())
     }
 
     /// Surface data at a hit.
@@ -222,50 +244,33 @@ impl Primitives {
                 None => ng,
             };
             let uv = b0 * sh.uvs[0] + hit.b1 * sh.uvs[1] + hit.b2 * sh.uvs[2];
-            SurfaceHit {
-                p,
-                ng,
-                ns,
-                uv,
-                t: hit.t,
-                prim: hit.prim,
-                material: sh.material,
-                light: sh.light,
-            }
+            let p_err = interpolation_error([b0, hit.b1, hit.b2], &[p0, p1, p2]);
+            SurfaceHit { p, p_err, ng, ns, uv, t: hit.t, prim: hit.prim, material: sh.material, light: sh.light }
         } else if hit.prim < nt + ns_ {
             let s = &self.spheres[(hit.prim - nt) as usize];
-            let (p, n) = match &s.transform {
+            let (p, p_err, n) = match &s.transform {
                 None => {
                     let n = (ray.at(hit.t) - s.center).normalize();
-                    (s.center + n * s.radius, n)
+                    (s.center + n * s.radius, sphere_point_error(s.center, n * s.radius, None), n)
                 }
                 Some(x) => {
                     let po = x.object_from_world.transform_point3a(ray.origin)
                         + x.object_from_world.transform_vector3a(ray.dir) * hit.t;
                     let no = (po - s.center).normalize();
-                    let p = x
-                        .world_from_object
-                        .transform_point3a(s.center + no * s.radius);
-                    (p, (x.normal_to_world * no).normalize())
+                    let p = x.world_from_object.transform_point3a(s.center + no * s.radius);
+                    let err = sphere_point_error(s.center, no * s.radius, Some(x));
+                    (p, err, (x.normal_to_world * no).normalize())
                 }
             };
             let uv = sphere_uv(n);
-            SurfaceHit {
-                p,
-                ng: n,
-                ns: n,
-                uv,
-                t: hit.t,
-                prim: hit.prim,
-                material: s.material,
-                light: s.light,
-            }
+            SurfaceHit { p, p_err, ng: n, ns: n, uv, t: hit.t, prim: hit.prim, material: s.material, light: s.light }
         } else {
             let pl = &self.planes[(hit.prim - nt - ns_) as usize];
             let mut p = ray.at(hit.t);
             p -= (pl.normal.dot(p) - pl.offset) * pl.normal;
             SurfaceHit {
                 p,
+                p_err: gamma(6) * (p.abs() + (pl.normal * pl.offset).abs()),
                 ng: pl.normal,
                 ns: pl.normal,
                 uv: Vec2::ZERO,
@@ -285,41 +290,23 @@ impl Primitives {
     ) -> Result<(Self, Vec<(hecs::Entity, EntityPrims)>)> {
         let mut prims = Primitives::default();
         let mut emitters = Vec::new();
-        let mut q = world.query::<(
-            hecs::Entity,
-            &Shape,
-            Option<&WorldFromLocal>,
-            Option<&MaterialId>,
-            Option<&Light>,
-        )>();
+        let mut q =
+            world.query::<(hecs::Entity, &Shape, Option<&WorldFromLocal>, Option<&MaterialId>, Option<&Light>)>();
         let mut items: Vec<_> = q.iter().collect();
         // Entity order is deterministic already; sort by id so the primitive order does not depend on archetypes.
         items.sort_by_key(|(e, ..)| e.id());
         for (entity, shape, wfl, mat, light) in items {
             let m = wfl.map(|w| w.0).unwrap_or(Affine3A::IDENTITY);
-            let material = mat
-                .map(|m| m.0)
-                .unwrap_or(0)
-                .min(num_materials.saturating_sub(1));
+            let material = mat.map(|m| m.0).unwrap_or(0).min(num_materials.saturating_sub(1));
             let emits = matches!(light, Some(Light::Area { .. }));
-            let light_slot = if emits {
-                emitters.len() as u32
-            } else {
-                NO_LIGHT
-            };
+            let light_slot = if emits { emitters.len() as u32 } else { NO_LIGHT };
             let first_tri = prims.num_tris();
             let mut sphere = None;
             let name = || crate::load::entity_label(world, entity);
             match shape {
                 Shape::Sphere { center, radius } => {
                     sphere = Some(prims.spheres.len() as u32);
-                    prims.spheres.push(make_sphere(
-                        &m,
-                        (*center).into(),
-                        *radius,
-                        material,
-                        light_slot,
-                    ));
+                    prims.spheres.push(make_sphere(&m, (*center).into(), *radius, material, light_slot));
                 }
                 Shape::Plane { normal, offset } => {
                     if emits {
@@ -334,19 +321,12 @@ impl Primitives {
                     let inv_t = m.matrix3.inverse().transpose();
                     let n_world = (inv_t * n_local).normalize();
                     let off = n_world.dot(m.transform_point3a(p0));
-                    prims.planes.push(PlaneGeom {
-                        normal: n_world,
-                        offset: off,
-                        material,
-                    });
+                    prims.planes.push(PlaneGeom { normal: n_world, offset: off, material });
                 }
                 Shape::Triangle { p, n, uv } => {
                     let v = p.map(|q| m.transform_point3a(q.into()));
                     if !is_valid_triangle(&v) {
-                        return Err(PrismError::scene(
-                            name(),
-                            "triangle has zero area (or non-finite vertices)",
-                        ));
+                        return Err(PrismError::scene(name(), "triangle has zero area (or non-finite vertices)"));
                     }
                     let normals = n.map(|n| n.map(|q| transform_normal(&m, q.into())));
                     prims.tris.push(v);
@@ -359,59 +339,34 @@ impl Primitives {
                 }
                 Shape::Mesh(h) => {
                     let mesh = meshes.get(*h);
-                    let world_pos: Vec<Vec3A> = mesh
-                        .positions
-                        .iter()
-                        .map(|&q| m.transform_point3a(q.into()))
-                        .collect();
-                    let world_n: Vec<Vec3A> = mesh
-                        .normals
-                        .iter()
-                        .map(|&q| transform_normal(&m, q.into()))
-                        .collect();
+                    let world_pos: Vec<Vec3A> = mesh.positions.iter().map(|&q| m.transform_point3a(q.into())).collect();
+                    let world_n: Vec<Vec3A> = mesh.normals.iter().map(|&q| transform_normal(&m, q.into())).collect();
                     for idx in &mesh.indices {
                         let v = idx.map(|i| world_pos[i as usize]);
                         if !is_valid_triangle(&v) {
                             prims.skipped_degenerate += 1;
                             continue;
                         }
-                        let normals =
-                            (!world_n.is_empty()).then(|| idx.map(|i| world_n[i as usize]));
+                        let normals = (!world_n.is_empty()).then(|| idx.map(|i| world_n[i as usize]));
                         let uvs = if mesh.uvs.is_empty() {
                             [Vec2::ZERO, Vec2::X, Vec2::Y]
                         } else {
                             idx.map(|i| mesh.uvs[i as usize])
                         };
                         prims.tris.push(v);
-                        prims.tri_shading.push(TriShading {
-                            normals,
-                            uvs,
-                            material,
-                            light: light_slot,
-                        });
+                        prims.tri_shading.push(TriShading { normals, uvs, material, light: light_slot });
                     }
                 }
             }
             if emits {
                 let tri_count = prims.num_tris() - first_tri;
                 if tri_count == 0 && sphere.is_none() {
-                    return Err(PrismError::scene(
-                        name(),
-                        "area light has no surface (all triangles degenerate)",
-                    ));
+                    return Err(PrismError::scene(name(), "area light has no surface (all triangles degenerate)"));
                 }
-                emitters.push((
-                    entity,
-                    EntityPrims {
-                        first_tri,
-                        tri_count,
-                        sphere,
-                    },
-                ));
+                emitters.push((entity, EntityPrims { first_tri, tri_count, sphere }));
             }
         }
-        prims.bounds =
-            (0..prims.num_bounded()).fold(Bounds::EMPTY, |b, i| b.union(prims.prim_bounds(i)));
+        prims.bounds = (0..prims.num_bounded()).fold(Bounds::EMPTY, |b, i| b.union(prims.prim_bounds(i)));
         Ok((prims, emitters))
     }
 }

@@ -31,9 +31,7 @@ pub fn propagate_transforms(world: &mut World, _res: &mut crate::app::Resources)
             chain.push(e);
             cur = nodes.get(&e).and_then(|(_, p)| *p);
         }
-        let mut m = cur
-            .and_then(|e| resolved.get(&e).copied())
-            .unwrap_or(Affine3A::IDENTITY);
+        let mut m = cur.and_then(|e| resolved.get(&e).copied()).unwrap_or(Affine3A::IDENTITY);
         for e in chain.into_iter().rev() {
             m *= nodes.get(&e).map_or(Affine3A::IDENTITY, |n| n.0);
             resolved.insert(e, m);
@@ -41,9 +39,7 @@ pub fn propagate_transforms(world: &mut World, _res: &mut crate::app::Resources)
     }
     for (e, m) in resolved {
         crate::load::check_affine(&m, &crate::load::entity_label(world, e))?;
-        world
-            .insert_one(e, WorldFromLocal(m))
-            .map_err(|_| PrismError::invalid("entity vanished during Propagate"))?;
+        world.insert_one(e, WorldFromLocal(m)).map_err(|_| PrismError::invalid("entity vanished during Propagate"))?;
     }
     Ok(())
 }

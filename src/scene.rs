@@ -28,10 +28,7 @@ impl Scene {
         if self.prims.planes.is_empty() {
             return hit;
         }
-        let r = Ray {
-            tmax: hit.map_or(ray.tmax, |h| h.t),
-            ..*ray
-        };
+        let r = Ray { tmax: hit.map_or(ray.tmax, |h| h.t), ..*ray };
         self.prims.intersect_planes(&r).or(hit)
     }
 

@@ -22,11 +22,7 @@ pub struct PluginConfig {
 
 impl PluginConfig {
     pub fn named(name: impl Into<String>) -> Self {
-        PluginConfig {
-            name: name.into(),
-            params: None,
-            origin: None,
-        }
+        PluginConfig { name: name.into(), params: None, origin: None }
     }
 
     /// Deserialize the plugin's parameter struct (defaults when none were given). Errors point into the scene file.
@@ -34,8 +30,7 @@ impl PluginConfig {
         let Some(text) = &self.params else {
             return Ok(T::default());
         };
-        let opts = ron::Options::default()
-            .with_default_extension(ron::extensions::Extensions::IMPLICIT_SOME);
+        let opts = ron::Options::default().with_default_extension(ron::extensions::Extensions::IMPLICIT_SOME);
         opts.from_str::<T>(text).map_err(|e| {
             let message = format!("integrator '{}': {}", self.name, e.code);
             match &self.origin {
@@ -145,10 +140,7 @@ impl RenderSettings {
 
     pub fn validate(&self) -> Result<()> {
         if self.width == 0 || self.height == 0 {
-            return Err(PrismError::invalid(format!(
-                "image size {}x{} is empty",
-                self.width, self.height
-            )));
+            return Err(PrismError::invalid(format!("image size {}x{} is empty", self.width, self.height)));
         }
         if self.width > MAX_IMAGE_SIDE
             || self.height > MAX_IMAGE_SIDE
@@ -168,17 +160,12 @@ impl RenderSettings {
         if let Some(spp) = self.spp
             && self.passes > spp
         {
-            return Err(PrismError::invalid(format!(
-                "{} passes cannot split {spp} samples per pixel",
-                self.passes
-            )));
+            return Err(PrismError::invalid(format!("{} passes cannot split {spp} samples per pixel", self.passes)));
         }
         if let Some(t) = self.time_budget
             && !(t.is_finite() && t > 0.0)
         {
-            return Err(PrismError::invalid(format!(
-                "time budget must be a positive number of seconds, got {t}"
-            )));
+            return Err(PrismError::invalid(format!("time budget must be a positive number of seconds, got {t}")));
         }
         if !self.exposure.is_finite() {
             return Err(PrismError::invalid("exposure must be finite"));

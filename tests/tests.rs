@@ -1,1 +1,14 @@
+//! Prism's test suite: one binary, one module per kind of evidence (DESIGN section 5).
+//! Each test names the physics or the contract it checks.
 
+mod common;
+
+mod accel;
+mod analytic;
+mod determinism;
+mod geometry;
+mod io;
+mod plugin;
+mod sampling;
+mod scenes;
+mod stability;

@@ -12,7 +12,7 @@
 
 use crate::app::{App, Plugin};
 use crate::error::{PrismError, Result};
-use crate::geometry::{Ray, spawn_ray, spawn_ray_to};
+use crate::geometry::Ray;
 use crate::integrator::{PerPixel, PixelIntegrator};
 use crate::material::Material;
 use crate::math::{fresnel_dielectric, reflect, refract};
@@ -33,10 +33,7 @@ pub struct PhongParams {
 
 impl Default for PhongParams {
     fn default() -> Self {
-        PhongParams {
-            max_depth: 5,
-            light_samples: 4,
-        }
+        PhongParams { max_depth: 5, light_samples: 4 }
     }
 }
 
@@ -65,9 +62,7 @@ pub struct Phong {
 impl Phong {
     pub fn new(params: PhongParams) -> Result<Self> {
         if params.light_samples == 0 {
-            return Err(PrismError::invalid(
-                "phong: light_samples must be at least 1",
-            ));
+            return Err(PrismError::invalid("phong: light_samples must be at least 1"));
         }
         if params.max_depth > 64 {
             return Err(PrismError::invalid("phong: max_depth must be at most 64"));
@@ -97,7 +92,7 @@ impl Phong {
             if shaded && m.reflective != Vec3::ZERO {
                 let r = reflect(wo, ns);
                 if r.dot(ng) > 0.0 {
-                    l += m.reflective * self.trace(scene, &spawn_ray(s.p, ng, r), rng, depth + 1);
+                    l += m.reflective * self.trace(scene, &s.spawn(r), rng, depth + 1);
                 }
             }
             if m.transparent != Vec3::ZERO {
@@ -107,18 +102,14 @@ impl Phong {
                 let f = fresnel_dielectric(cos_i, eta);
                 if f > 0.0 {
                     let r = reflect(wo, ns);
-                    l += m.transparent
-                        * f
-                        * self.trace(scene, &spawn_ray(s.p, ng, r), rng, depth + 1);
+                    l += m.transparent * f * self.trace(scene, &s.spawn(r), rng, depth + 1);
                 }
                 if f < 1.0
                     && let Some(t) = refract(wo, ns, eta)
                 {
                     // Radiance is scaled by 1/eta^2 across the interface (it cancels for closed objects).
                     let scale = (1.0 - f) / (eta * eta);
-                    l += m.transparent
-                        * scale
-                        * self.trace(scene, &spawn_ray(s.p, ng, t.normalize()), rng, depth + 1);
+                    l += m.transparent * scale * self.trace(scene, &s.spawn(t.normalize()), rng, depth + 1);
                 }
             }
         }
@@ -139,11 +130,7 @@ impl Phong {
     ) -> Vec3 {
         let mut sum = Vec3::ZERO;
         for i in 0..scene.lights.len() {
-            let n = if scene.lights.is_delta(i) {
-                1
-            } else {
-                self.params.light_samples
-            };
+            let n = if scene.lights.is_delta(i) { 1 } else { self.params.light_samples };
             let key = rng.next_u32();
             let mut acc = Vec3::ZERO;
             for k in 0..n {
@@ -159,12 +146,7 @@ impl Phong {
                 if f == Vec3::ZERO {
                     continue;
                 }
-                let shadow = if ls.dist.is_finite() {
-                    spawn_ray_to(s.p, ng, ls.p, ls.n).0
-                } else {
-                    spawn_ray(s.p, ng, ls.wi)
-                };
-                if scene.occluded(&shadow) {
+                if scene.occluded(&s.spawn_to(&ls)) {
                     continue;
                 }
                 acc += f * ls.li * (cos / ls.pdf);

@@ -10,9 +10,7 @@ pub struct BruteForce {
 
 impl BruteForce {
     pub fn build(prims: &Primitives) -> Self {
-        BruteForce {
-            count: prims.num_bounded(),
-        }
+        BruteForce { count: prims.num_bounded() }
     }
 }
 
@@ -36,9 +34,6 @@ impl Accelerator for BruteForce {
     }
 
     fn stats(&self) -> AccelStats {
-        AccelStats {
-            kind: "brute",
-            ..Default::default()
-        }
+        AccelStats { kind: "brute", ..Default::default() }
     }
 }

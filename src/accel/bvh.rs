@@ -17,6 +17,8 @@ pub struct BvhAccel {
     /// Primitive id of each slot.
     slot_ids: Vec<u32>,
     num_tris: u32,
+    /// No spheres: every slot is a triangle and the traversal closure skips the per-slot type check.
+    triangles_only: bool,
     pub(super) build_time: Duration,
 }
 
@@ -32,50 +34,28 @@ impl BvhAccel {
         let bvh = if aabbs.is_empty() {
             CwBvh::default()
         } else {
-            obvhs::cwbvh::builder::build_cwbvh(
-                &aabbs,
-                BvhBuildParams::medium_build(),
-                &mut Duration::default(),
-            )
+            obvhs::cwbvh::builder::build_cwbvh(&aabbs, BvhBuildParams::medium_build(), &mut Duration::default())
         };
         let nt = prims.num_tris();
         let slot_ids = bvh.primitive_indices.clone();
-        let slot_tris = slot_ids
-            .iter()
-            .map(|&id| {
-                if id < nt {
-                    prims.tris[id as usize]
-                } else {
-                    [Vec3A::ZERO; 3]
-                }
-            })
-            .collect();
+        let slot_tris =
+            slot_ids.iter().map(|&id| if id < nt { prims.tris[id as usize] } else { [Vec3A::ZERO; 3] }).collect();
         BvhAccel {
             bvh,
             slot_tris,
             slot_ids,
             num_tris: nt,
+            triangles_only: prims.spheres.is_empty(),
             build_time: Duration::ZERO,
         }
     }
 
     #[inline(always)]
-    fn hit_slot(
-        &self,
-        prims: &Primitives,
-        slot: usize,
-        ray: &Ray,
-        wt: &WatertightRay,
-    ) -> Option<Hit> {
+    fn hit_slot(&self, prims: &Primitives, slot: usize, ray: &Ray, wt: &WatertightRay) -> Option<Hit> {
         let id = self.slot_ids[slot];
         if id < self.num_tris {
             let [p0, p1, p2] = self.slot_tris[slot];
-            wt.intersect(p0, p1, p2, ray.tmax).map(|h| Hit {
-                t: h.t,
-                prim: id,
-                b1: h.b1,
-                b2: h.b2,
-            })
+            wt.intersect(p0, p1, p2, ray.tmax).map(|h| Hit { t: h.t, prim: id, b1: h.b1, b2: h.b2 })
         } else {
             prims.intersect_sphere(id, ray)
         }
@@ -99,13 +79,30 @@ impl Accelerator for BvhAccel {
             return None;
         }
         let wt = WatertightRay::new(ray);
-        let mut best: Option<Hit> = None;
         let mut rh = RayHit::none();
+        if self.triangles_only {
+            // Hot path: read only the slot's vertices; the primitive id is looked up once, for the final hit.
+            let mut bary = (0.0, 0.0);
+            self.bvh.ray_traverse(to_obvhs(ray), &mut rh, |r, slot| {
+                let [p0, p1, p2] = self.slot_tris[slot];
+                match wt.intersect(p0, p1, p2, r.tmax) {
+                    Some(h) => {
+                        bary = (h.b1, h.b2);
+                        h.t
+                    }
+                    None => f32::INFINITY,
+                }
+            });
+            return (rh.t < ray.tmax).then(|| Hit {
+                t: rh.t,
+                prim: self.slot_ids[rh.primitive_id as usize],
+                b1: bary.0,
+                b2: bary.1,
+            });
+        }
+        let mut best: Option<Hit> = None;
         self.bvh.ray_traverse(to_obvhs(ray), &mut rh, |r, slot| {
-            let cur = Ray {
-                tmax: r.tmax,
-                ..*ray
-            };
+            let cur = Ray { tmax: r.tmax, ..*ray };
             match self.hit_slot(prims, slot, &cur, &wt) {
                 Some(h) => {
                     best = Some(h);
@@ -123,11 +120,9 @@ impl Accelerator for BvhAccel {
             return false;
         }
         let wt = WatertightRay::new(ray);
-        !self.bvh.ray_traverse_miss(to_obvhs(ray), |_, slot| {
-            match self.hit_slot(prims, slot, ray, &wt) {
-                Some(h) => h.t,
-                None => f32::INFINITY,
-            }
+        !self.bvh.ray_traverse_miss(to_obvhs(ray), |_, slot| match self.hit_slot(prims, slot, ray, &wt) {
+            Some(h) => h.t,
+            None => f32::INFINITY,
         })
     }
 
@@ -135,8 +130,7 @@ impl Accelerator for BvhAccel {
         AccelStats {
             kind: "bvh",
             build_time: self.build_time,
-            memory_bytes: self.bvh.nodes.len()
-                * std::mem::size_of::<obvhs::cwbvh::node::CwBvhNode>()
+            memory_bytes: self.bvh.nodes.len() * std::mem::size_of::<obvhs::cwbvh::node::CwBvhNode>()
                 + self.slot_ids.len() * (4 + std::mem::size_of::<[Vec3A; 3]>()),
             nodes: self.bvh.nodes.len(),
         }

@@ -11,36 +11,12 @@ impl Plugin for CorePlugin {
 
     fn build(&self, app: &mut App) {
         app.add_system(Stage::Load, "load_scene", crate::load::load_scene_system)
-            .add_system(
-                Stage::Propagate,
-                "propagate_transforms",
-                crate::propagate::propagate_transforms,
-            )
-            .add_system(
-                Stage::BuildAccel,
-                "build_scene",
-                crate::render::build_scene_system,
-            )
-            .add_system(
-                Stage::Prepare,
-                "build_lights",
-                crate::render::build_lights_system,
-            )
-            .add_system(
-                Stage::Prepare,
-                "prepare_integrator",
-                crate::render::prepare_integrator_system,
-            )
-            .add_system(
-                Stage::Render,
-                "render_pass",
-                crate::render::render_pass_system,
-            )
-            .add_system(
-                Stage::Accumulate,
-                "accumulate",
-                crate::render::accumulate_system,
-            )
+            .add_system(Stage::Propagate, "propagate_transforms", crate::propagate::propagate_transforms)
+            .add_system(Stage::BuildAccel, "build_scene", crate::render::build_scene_system)
+            .add_system(Stage::Prepare, "build_lights", crate::render::build_lights_system)
+            .add_system(Stage::Prepare, "prepare_integrator", crate::render::prepare_integrator_system)
+            .add_system(Stage::Render, "render_pass", crate::render::render_pass_system)
+            .add_system(Stage::Accumulate, "accumulate", crate::render::accumulate_system)
             .add_system(Stage::Output, "write_outputs", crate::render::output_system);
     }
 }

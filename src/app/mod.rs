@@ -40,12 +40,7 @@ impl Default for App {
 impl App {
     /// An app with no systems and no plugins.
     pub fn empty() -> Self {
-        App {
-            world: World::new(),
-            resources: Resources::default(),
-            schedule: Schedule::default(),
-            plugins: vec![],
-        }
+        App { world: World::new(), resources: Resources::default(), schedule: Schedule::default(), plugins: vec![] }
     }
 
     /// The core systems plus every built-in integrator plugin.
@@ -93,24 +88,30 @@ impl App {
 
     /// Run one stage's systems once.
     pub fn run_stage(&mut self, stage: Stage) -> Result<()> {
-        self.schedule
-            .run_stage(stage, &mut self.world, &mut self.resources)
+        self.schedule.run_stage(stage, &mut self.world, &mut self.resources)
     }
 
-    /// Run the whole schedule: the set-up stages once, Render + Accumulate per pass until done, then Output.
-    pub fn run(&mut self) -> Result<()> {
-        for stage in [
-            Stage::Load,
-            Stage::Propagate,
-            Stage::BuildAccel,
-            Stage::Prepare,
-        ] {
+    /// Run the set-up stages (Load, Propagate, BuildAccel, Prepare) once: afterwards `resources.scene` holds the
+    /// render scene and `resources.integrator` the chosen integrator.
+    pub fn setup(&mut self) -> Result<()> {
+        for stage in [Stage::Load, Stage::Propagate, Stage::BuildAccel, Stage::Prepare] {
             self.run_stage(stage)?;
         }
+        Ok(())
+    }
+
+    /// Run the passes and the Output stage (after [`App::setup`]).
+    pub fn render(&mut self) -> Result<()> {
         while !self.resources.progress.finished {
             self.run_stage(Stage::Render)?;
             self.run_stage(Stage::Accumulate)?;
         }
         self.run_stage(Stage::Output)
+    }
+
+    /// Run the whole schedule: the set-up stages once, Render + Accumulate per pass until done, then Output.
+    pub fn run(&mut self) -> Result<()> {
+        self.setup()?;
+        self.render()
     }
 }

@@ -25,11 +25,7 @@ pub enum SceneSource {
     /// A scene file (`.ron`, `.obj`), loaded by extension.
     File(PathBuf),
     /// RON text; `name` is used in error messages and relative paths resolve against `base_dir`.
-    RonText {
-        text: String,
-        name: PathBuf,
-        base_dir: PathBuf,
-    },
+    RonText { text: String, name: PathBuf, base_dir: PathBuf },
 }
 
 /// Scene-wide values that are not entities.
@@ -107,21 +103,17 @@ impl Resources {
     }
 
     pub fn get<T: Any + Send + Sync>(&self) -> Option<&T> {
-        self.plugin_state
-            .get(&TypeId::of::<T>())
-            .and_then(|b| b.downcast_ref())
+        self.plugin_state.get(&TypeId::of::<T>()).and_then(|b| b.downcast_ref())
     }
 
     pub fn get_mut<T: Any + Send + Sync>(&mut self) -> Option<&mut T> {
-        self.plugin_state
-            .get_mut(&TypeId::of::<T>())
-            .and_then(|b| b.downcast_mut())
+        self.plugin_state.get_mut(&TypeId::of::<T>()).and_then(|b| b.downcast_mut())
     }
 
     /// The scene, or an error naming the stage that should have built it.
     pub fn scene(&self) -> Result<&Scene> {
-        self.scene.as_ref().ok_or_else(|| {
-            crate::error::PrismError::invalid("no scene: the BuildAccel stage did not run")
-        })
+        self.scene
+            .as_ref()
+            .ok_or_else(|| crate::error::PrismError::invalid("no scene: the BuildAccel stage did not run"))
     }
 }

@@ -48,14 +48,8 @@ pub struct System {
 }
 
 impl System {
-    pub fn new(
-        name: &'static str,
-        run: impl FnMut(&mut World, &mut Resources) -> Result<()> + Send + 'static,
-    ) -> Self {
-        System {
-            name,
-            run: Box::new(run),
-        }
+    pub fn new(name: &'static str, run: impl FnMut(&mut World, &mut Resources) -> Result<()> + Send + 'static) -> Self {
+        System { name, run: Box::new(run) }
     }
 }
 
@@ -74,12 +68,7 @@ impl Schedule {
         self.stages[stage.index()].iter().map(|s| s.name).collect()
     }
 
-    pub fn run_stage(
-        &mut self,
-        stage: Stage,
-        world: &mut World,
-        res: &mut Resources,
-    ) -> Result<()> {
+    pub fn run_stage(&mut self, stage: Stage, world: &mut World, res: &mut Resources) -> Result<()> {
         for system in &mut self.stages[stage.index()] {
             (system.run)(world, res)?;
         }

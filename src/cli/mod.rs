@@ -7,11 +7,7 @@ use clap::{Parser, Subcommand};
 use std::path::PathBuf;
 
 #[derive(Parser, Debug)]
-#[command(
-    name = "prism",
-    version,
-    about = "Prism: a physically based CPU ray tracer"
-)]
+#[command(name = "prism", version, about = "Prism: a physically based CPU ray tracer")]
 pub struct Cli {
     #[command(subcommand)]
     pub command: Command,
@@ -37,10 +33,6 @@ pub enum Command {
 pub fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Command::Render(args) => render_cmd::run(args),
-        Command::Compare {
-            test,
-            reference,
-            json,
-        } => compare_cmd::run(&test, &reference, json),
+        Command::Compare { test, reference, json } => compare_cmd::run(&test, &reference, json),
     }
 }

@@ -33,7 +33,7 @@ pub struct RenderArgs {
     #[arg(long)]
     pub passes: Option<u32>,
     /// Time budget in seconds: stop after the pass that crosses it (unlimited samples unless --spp is given).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub time: Option<f64>,
     /// Image size, WIDTHxHEIGHT.
     #[arg(long, value_parser = parse_size)]
@@ -62,22 +62,13 @@ fn parse_accel(s: &str) -> Result<AccelKind, String> {
 }
 
 fn parse_pattern(s: &str) -> Result<PixelPattern, String> {
-    PixelPattern::parse(s)
-        .ok_or_else(|| format!("unknown pattern '{s}' (expected random, stratified or rgss)"))
+    PixelPattern::parse(s).ok_or_else(|| format!("unknown pattern '{s}' (expected random, stratified or rgss)"))
 }
 
 fn parse_size(s: &str) -> Result<(u32, u32), String> {
-    let (w, h) = s
-        .split_once(['x', 'X'])
-        .ok_or_else(|| format!("expected WIDTHxHEIGHT, got '{s}'"))?;
-    let w = w
-        .trim()
-        .parse::<u32>()
-        .map_err(|_| format!("bad width in '{s}'"))?;
-    let h = h
-        .trim()
-        .parse::<u32>()
-        .map_err(|_| format!("bad height in '{s}'"))?;
+    let (w, h) = s.split_once(['x', 'X']).ok_or_else(|| format!("expected WIDTHxHEIGHT, got '{s}'"))?;
+    let w = w.trim().parse::<u32>().map_err(|_| format!("bad width in '{s}'"))?;
+    let h = h.trim().parse::<u32>().map_err(|_| format!("bad height in '{s}'"))?;
     Ok((w, h))
 }
 
@@ -105,32 +96,20 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
         return Err(PrismError::invalid("--threads must be at least 1").into());
     }
     if !(args.checkpoint.is_finite() && args.checkpoint >= 0.0) {
-        return Err(
-            PrismError::invalid("--checkpoint must be a non-negative number of seconds").into(),
-        );
+        return Err(PrismError::invalid("--checkpoint must be a non-negative number of seconds").into());
     }
     let outputs = if args.output.is_empty() {
-        let stem = args
-            .scene
-            .file_stem()
-            .map(|s| s.to_string_lossy().to_string())
-            .unwrap_or_else(|| "out".into());
+        let stem = args.scene.file_stem().map(|s| s.to_string_lossy().to_string()).unwrap_or_else(|| "out".into());
         vec![PathBuf::from(format!("{stem}.png"))]
     } else {
         args.output.clone()
     };
     for o in &outputs {
-        let ext = o
-            .extension()
-            .and_then(|e| e.to_str())
-            .unwrap_or("")
-            .to_ascii_lowercase();
+        let ext = o.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
         if ext != "png" && ext != "exr" {
-            return Err(PrismError::invalid(format!(
-                "{}: unsupported output format (use .png or .exr)",
-                o.display()
-            ))
-            .into());
+            return Err(
+                PrismError::invalid(format!("{}: unsupported output format (use .png or .exr)", o.display())).into()
+            );
         }
     }
     let mut app = App::with_default_plugins();
@@ -156,12 +135,9 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
     if let Some(n) = args.threads {
         builder = builder.num_threads(n);
     }
-    let pool = builder.build().map_err(|e| {
-        PrismError::invalid(format!(
-            "cannot start {} threads: {e}",
-            args.threads.unwrap_or(0)
-        ))
-    })?;
+    let pool = builder
+        .build()
+        .map_err(|e| PrismError::invalid(format!("cannot start {} threads: {e}", args.threads.unwrap_or(0))))?;
     let t0 = Instant::now();
     pool.install(|| app.run())?;
     let wall = t0.elapsed().as_secs_f64();
@@ -183,25 +159,19 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
             render_s,
             (wall - render_s).max(0.0),
             samples / render_s.max(1e-9) / 1e6,
-            outputs
-                .iter()
-                .map(|o| o.display().to_string())
-                .collect::<Vec<_>>()
-                .join(", ")
+            outputs.iter().map(|o| o.display().to_string()).collect::<Vec<_>>().join(", ")
         );
         if let Some(f) = &res.film
             && f.nonfinite > 0
         {
-            eprintln!(
-                "warning: {} samples were NaN or infinite and counted as 0",
-                f.nonfinite
-            );
+            eprintln!("warning: {} samples were NaN or infinite and counted as 0", f.nonfinite);
         }
     }
     if p.interrupted {
+        let (lo, hi) = res.film.as_ref().map_or((0, 0), |f| f.sample_range());
         return Err(anyhow::anyhow!(
-            "interrupted: wrote the {} spp rendered so far",
-            p.spp_done
+            "interrupted: wrote what was rendered ({} complete passes; {lo} to {hi} samples per pixel)",
+            p.passes_done
         ));
     }
     Ok(())

@@ -15,10 +15,7 @@ impl Default for Bounds {
 }
 
 impl Bounds {
-    pub const EMPTY: Bounds = Bounds {
-        min: Vec3A::splat(f32::INFINITY),
-        max: Vec3A::splat(f32::NEG_INFINITY),
-    };
+    pub const EMPTY: Bounds = Bounds { min: Vec3A::splat(f32::INFINITY), max: Vec3A::splat(f32::NEG_INFINITY) };
 
     #[inline]
     pub fn new(min: Vec3A, max: Vec3A) -> Self {
@@ -32,18 +29,12 @@ impl Bounds {
 
     #[inline]
     pub fn with_point(self, p: Vec3A) -> Self {
-        Bounds {
-            min: self.min.min(p),
-            max: self.max.max(p),
-        }
+        Bounds { min: self.min.min(p), max: self.max.max(p) }
     }
 
     #[inline]
     pub fn union(self, o: Bounds) -> Self {
-        Bounds {
-            min: self.min.min(o.min),
-            max: self.max.max(o.max),
-        }
+        Bounds { min: self.min.min(o.min), max: self.max.max(o.max) }
     }
 
     #[inline]

@@ -1,6 +1,6 @@
 //! Ray–primitive geometry: rays, bounds, watertight ray–triangle (Woop, Benthin & Wald 2013), numerically robust
 //! ray–sphere (Haines et al., Ray Tracing Gems ch. 7), ray–plane, and the ray-origin offset that prevents
-//! self-intersection without a scene-dependent epsilon (Wächter & Binder, Ray Tracing Gems ch. 6).
+//! self-intersection without a scene-dependent epsilon (floating-point error bounds, pbrt-v4 section 6.8).
 
 mod bounds;
 mod offset;
@@ -10,7 +10,7 @@ mod sphere;
 mod triangle;
 
 pub use bounds::Bounds;
-pub use offset::{offset_ray_origin, spawn_ray, spawn_ray_to};
+pub use offset::{gamma, offset_ray_origin, spawn_ray, spawn_ray_to};
 pub use plane::intersect_plane;
 pub use ray::Ray;
 pub use sphere::intersect_sphere;

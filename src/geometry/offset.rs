@@ -1,66 +1,77 @@
-//! Robust spawning of secondary rays (Wächter & Binder, "A Fast and Robust Method for Avoiding Self-Intersection",
-//! Ray Tracing Gems 2019, ch. 6). The hit point is pushed off the surface along the geometric normal by a number
-//! of float ULPs proportional to its magnitude (plus a small absolute step near the origin), so the spawned ray
-//! cannot re-hit its own surface whatever the scene scale, and no light leaks through closed or thin geometry
-//! because the step is only a few ULPs of the coordinates.
+//! Robust spawning of secondary rays with conservative floating-point error bounds (pbrt-v4, "Robust Spawned Ray
+//! Origins", Pharr, Jakob & Humphreys, 4th ed. section 6.8.6). Each surface hit carries an absolute error bound
+//! `p_err` per coordinate, derived from how the point was computed (barycentric interpolation for triangles,
+//! reprojection for spheres and planes); the origin is pushed along the geometric normal just past that error
+//! box and rounded one ULP further out. The offset is therefore proportional to the actual rounding error: it
+//! is right for a 1 mm object at the origin and for a stadium 10^5 units away, never re-hits the surface
+//! (no shadow acne) and never crosses geometry thicker than the error bound (no light leaking).
 
 use super::Ray;
 use glam::Vec3A;
 
-const ORIGIN: f32 = 1.0 / 32.0;
-const FLOAT_SCALE: f32 = 1.0 / 65536.0;
-const INT_SCALE: f32 = 256.0;
+/// The bound gamma(n) = n u / (1 - n u) on the relative error of n chained floating-point operations, u = 2^-24.
+#[inline]
+pub const fn gamma(n: i32) -> f32 {
+    let u = f32::EPSILON * 0.5;
+    (n as f32 * u) / (1.0 - n as f32 * u)
+}
 
 #[inline]
-fn offset_component(p: f32, n: f32) -> f32 {
-    if p.abs() < ORIGIN {
-        return p + FLOAT_SCALE * n;
+fn next_up(v: f32) -> f32 {
+    if v.is_infinite() && v > 0.0 {
+        return v;
     }
-    let of_i = (INT_SCALE * n) as i32;
-    let bits = p.to_bits() as i32;
-    let moved = if p < 0.0 {
-        bits.wrapping_sub(of_i)
-    } else {
-        bits.wrapping_add(of_i)
+    let v = if v == -0.0 { 0.0 } else { v };
+    let bits = v.to_bits();
+    f32::from_bits(if v >= 0.0 { bits + 1 } else { bits - 1 })
+}
+
+#[inline]
+fn next_down(v: f32) -> f32 {
+    if v.is_infinite() && v < 0.0 {
+        return v;
+    }
+    let v = if v == 0.0 { -0.0 } else { v };
+    let bits = v.to_bits();
+    f32::from_bits(if v > 0.0 { bits - 1 } else { bits + 1 })
+}
+
+/// `p` (with absolute error bound `p_err`) moved off its surface along the unit geometric normal `n`, towards the
+/// side of `w`.
+#[inline]
+pub fn offset_ray_origin(p: Vec3A, p_err: Vec3A, n: Vec3A, w: Vec3A) -> Vec3A {
+    let d = n.abs().dot(p_err);
+    let mut offset = n * d;
+    if w.dot(n) < 0.0 {
+        offset = -offset;
+    }
+    let po = p + offset;
+    let round = |v: f32, o: f32| {
+        if o > 0.0 {
+            next_up(v)
+        } else if o < 0.0 {
+            next_down(v)
+        } else {
+            v
+        }
     };
-    f32::from_bits(moved as u32)
+    Vec3A::new(round(po.x, offset.x), round(po.y, offset.y), round(po.z, offset.z))
 }
 
-/// `p` moved off its surface to the side of the unit geometric normal `n`.
+/// A ray leaving surface point `p` (error `p_err`, geometric normal `ng`) in unit direction `dir`.
 #[inline]
-pub fn offset_ray_origin(p: Vec3A, n: Vec3A) -> Vec3A {
-    Vec3A::new(
-        offset_component(p.x, n.x),
-        offset_component(p.y, n.y),
-        offset_component(p.z, n.z),
-    )
+pub fn spawn_ray(p: Vec3A, p_err: Vec3A, ng: Vec3A, dir: Vec3A) -> Ray {
+    Ray::new(offset_ray_origin(p, p_err, ng, dir), dir)
 }
 
-/// A ray leaving surface point `p` (geometric normal `ng`) in direction `dir` (unit).
+/// A shadow ray from `p` (error `p_err`, normal `ng`) towards `q` (error `q_err`, normal `nq`; zero normal and
+/// error for a point light). Both ends are offset off their surfaces; `tmax` stops just short of the target so the
+/// target surface never counts as an occluder.
 #[inline]
-pub fn spawn_ray(p: Vec3A, ng: Vec3A, dir: Vec3A) -> Ray {
-    let n = if dir.dot(ng) >= 0.0 { ng } else { -ng };
-    Ray::new(offset_ray_origin(p, n), dir)
-}
-
-/// A shadow ray from surface point `p` (normal `ng`) towards point `q` on another surface (normal `nq`, or zero for
-/// a point light). Both ends are offset; `tmax` stops just short of the target so the target surface itself never
-/// counts as an occluder. Returns the ray and the distance to the target.
-#[inline]
-pub fn spawn_ray_to(p: Vec3A, ng: Vec3A, q: Vec3A, nq: Vec3A) -> (Ray, f32) {
-    let d = q - p;
-    let n = if d.dot(ng) >= 0.0 { ng } else { -ng };
-    let o = offset_ray_origin(p, n);
-    let target = if nq == Vec3A::ZERO {
-        q
-    } else {
-        let m = if (-d).dot(nq) >= 0.0 { nq } else { -nq };
-        offset_ray_origin(q, m)
-    };
+pub fn spawn_ray_to(p: Vec3A, p_err: Vec3A, ng: Vec3A, q: Vec3A, q_err: Vec3A, nq: Vec3A) -> Ray {
+    let o = offset_ray_origin(p, p_err, ng, q - p);
+    let target = if nq == Vec3A::ZERO { q } else { offset_ray_origin(q, q_err, nq, o - q) };
     let to = target - o;
     let dist = to.length();
-    (
-        Ray::with_tmax(o, to / dist, dist * (1.0 - 1e-4)),
-        d.length(),
-    )
+    Ray::with_tmax(o, to / dist, dist * (1.0 - 1e-4))
 }

@@ -13,11 +13,7 @@ pub struct Ray {
 impl Ray {
     #[inline]
     pub fn new(origin: Vec3A, dir: Vec3A) -> Self {
-        Ray {
-            origin,
-            dir,
-            tmax: f32::INFINITY,
-        }
+        Ray { origin, dir, tmax: f32::INFINITY }
     }
 
     #[inline]

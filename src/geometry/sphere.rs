@@ -7,13 +7,7 @@ use glam::Vec3A;
 
 /// Smallest `t` in `(0, tmax)` where `origin + t dir` meets the sphere.
 #[inline]
-pub fn intersect_sphere(
-    center: Vec3A,
-    radius: f32,
-    origin: Vec3A,
-    dir: Vec3A,
-    tmax: f32,
-) -> Option<f32> {
+pub fn intersect_sphere(center: Vec3A, radius: f32, origin: Vec3A, dir: Vec3A, tmax: f32) -> Option<f32> {
     let f = origin - center;
     let a = dir.dot(dir);
     let b = -f.dot(dir);

@@ -53,10 +53,7 @@ impl WatertightRay {
         let row0 = e(kx) - sx * e(kz);
         let row1 = e(ky) - sy * e(kz);
         let row2 = sz * e(kz);
-        WatertightRay {
-            origin: ray.origin,
-            shear: Mat3A::from_cols(row0, row1, row2).transpose(),
-        }
+        WatertightRay { origin: ray.origin, shear: Mat3A::from_cols(row0, row1, row2).transpose() }
     }
 
     /// Intersect the triangle `(p0, p1, p2)`; hits with `t` in `(0, tmax)` only.
@@ -69,9 +66,7 @@ impl WatertightRay {
         let mut v = a.x * c.y - a.y * c.x;
         let mut w = b.x * a.y - b.y * a.x;
         if u == 0.0 || v == 0.0 || w == 0.0 {
-            let (ax, ay, bx, by, cx, cy) = (
-                a.x as f64, a.y as f64, b.x as f64, b.y as f64, c.x as f64, c.y as f64,
-            );
+            let (ax, ay, bx, by, cx, cy) = (a.x as f64, a.y as f64, b.x as f64, b.y as f64, c.x as f64, c.y as f64);
             u = (cx * by - cy * bx) as f32;
             v = (ax * cy - ay * cx) as f32;
             w = (bx * ay - by * ax) as f32;
@@ -92,11 +87,6 @@ impl WatertightRay {
             return None;
         }
         let inv = 1.0 / det;
-        Some(TriangleHit {
-            t: t_scaled * inv,
-            b0: u * inv,
-            b1: v * inv,
-            b2: w * inv,
-        })
+        Some(TriangleHit { t: t_scaled * inv, b0: u * inv, b1: v * inv, b2: w * inv })
     }
 }

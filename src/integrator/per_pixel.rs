@@ -17,12 +17,7 @@ pub fn tiles(width: u32, height: u32) -> Vec<Tile> {
     let mut out = Vec::new();
     for y0 in (0..height).step_by(TILE_SIZE as usize) {
         for x0 in (0..width).step_by(TILE_SIZE as usize) {
-            out.push(Tile {
-                x0,
-                y0,
-                w: TILE_SIZE.min(width - x0),
-                h: TILE_SIZE.min(height - y0),
-            });
+            out.push(Tile { x0, y0, w: TILE_SIZE.min(width - x0), h: TILE_SIZE.min(height - y0) });
         }
     }
     out
@@ -43,19 +38,13 @@ impl<T: PixelIntegrator> PerPixel<T> {
                 // With a known total, samples are stratified over the whole render (the pixel's key is the same in
                 // every pass, each pass takes the next sample indices); otherwise within the pass.
                 let (base, total, key) = match s.spp {
-                    Some(n) => (
-                        pass.first_sample as u32,
-                        n,
-                        hash_u64(s.seed ^ hash_u64(pixel)) as u32,
-                    ),
+                    Some(n) => (pass.first_sample as u32, n, hash_u64(s.seed ^ hash_u64(pixel)) as u32),
                     None => (0, pass.spp, rng.next_u32()),
                 };
                 let mut sum = Vec3::ZERO;
                 for i in 0..pass.spp {
                     let off = s.pattern.offset(base + i, total, key, &mut rng);
-                    let ray = scene
-                        .camera
-                        .generate_ray(Vec2::new(x as f32 + off.x, y as f32 + off.y));
+                    let ray = scene.camera.generate_ray(Vec2::new(x as f32 + off.x, y as f32 + off.y));
                     let l = self.0.radiance(scene, ray, &mut rng);
                     if l.is_finite() {
                         sum += l;
@@ -66,12 +55,7 @@ impl<T: PixelIntegrator> PerPixel<T> {
                 sums.push(sum);
             }
         }
-        TileSamples {
-            tile,
-            spp: pass.spp,
-            sums,
-            nonfinite,
-        }
+        TileSamples { tile, spp: pass.spp, sums, nonfinite }
     }
 }
 
@@ -84,9 +68,7 @@ impl<T: PixelIntegrator> Integrator for PerPixel<T> {
         let this = &*self;
         let done: Vec<Option<TileSamples>> = tiles(pass.settings.width, pass.settings.height)
             .into_par_iter()
-            .map(|tile| {
-                (!cancel.load(Ordering::Relaxed)).then(|| this.render_tile(scene, pass, tile))
-            })
+            .map(|tile| (!cancel.load(Ordering::Relaxed)).then(|| this.render_tile(scene, pass, tile)))
             .collect();
         PassOutput::Samples(done.into_iter().flatten().collect())
     }

@@ -6,8 +6,7 @@ use crate::error::{PrismError, Result};
 use crate::settings::PluginConfig;
 use std::collections::BTreeMap;
 
-pub type IntegratorFactory =
-    Box<dyn Fn(&PluginConfig) -> Result<Box<dyn Integrator>> + Send + Sync>;
+pub type IntegratorFactory = Box<dyn Fn(&PluginConfig) -> Result<Box<dyn Integrator>> + Send + Sync>;
 
 #[derive(Default)]
 pub struct IntegratorRegistry {

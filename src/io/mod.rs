@@ -16,11 +16,7 @@ pub struct Image {
 impl Image {
     pub fn new(width: u32, height: u32, pixels: Vec<Vec3>) -> Self {
         debug_assert_eq!(pixels.len(), width as usize * height as usize);
-        Image {
-            width,
-            height,
-            pixels,
-        }
+        Image { width, height, pixels }
     }
 
     pub fn get(&self, x: u32, y: u32) -> Vec3 {
@@ -29,19 +25,13 @@ impl Image {
 
     /// Mean of every pixel.
     pub fn mean(&self) -> Vec3 {
-        let s = self
-            .pixels
-            .iter()
-            .fold(glam::DVec3::ZERO, |a, p| a + p.as_dvec3());
+        let s = self.pixels.iter().fold(glam::DVec3::ZERO, |a, p| a + p.as_dvec3());
         (s / self.pixels.len().max(1) as f64).as_vec3()
     }
 }
 
 fn temp_path(path: &Path) -> PathBuf {
-    let mut name = path
-        .file_name()
-        .map(|n| n.to_os_string())
-        .unwrap_or_default();
+    let mut name = path.file_name().map(|n| n.to_os_string()).unwrap_or_default();
     name.push(".partial");
     let tmp = path.with_file_name(name);
     // Keep the real extension last so encoders that look at it still work.
@@ -57,18 +47,11 @@ fn finish(tmp: &Path, path: &Path) -> Result<()> {
 
 /// Write `img` to `path`; the format follows the extension (`.exr` linear, `.png` sRGB after `exposure` stops).
 pub fn write_image(path: &Path, img: &Image, exposure: f32) -> Result<()> {
-    let ext = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .unwrap_or("")
-        .to_ascii_lowercase();
+    let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
     match ext.as_str() {
         "exr" => write_exr(path, img),
         "png" => write_png(path, img, exposure),
-        _ => Err(PrismError::invalid(format!(
-            "{}: unsupported output format (use .png or .exr)",
-            path.display()
-        ))),
+        _ => Err(PrismError::invalid(format!("{}: unsupported output format (use .png or .exr)", path.display()))),
     }
 }
 
@@ -86,20 +69,12 @@ pub fn write_exr(path: &Path, img: &Image) -> Result<()> {
 /// The sRGB transfer function (IEC 61966-2-1) of a linear value in [0, 1].
 #[inline]
 pub fn linear_to_srgb(v: f32) -> f32 {
-    if v <= 0.0031308 {
-        12.92 * v
-    } else {
-        1.055 * v.powf(1.0 / 2.4) - 0.055
-    }
+    if v <= 0.0031308 { 12.92 * v } else { 1.055 * v.powf(1.0 / 2.4) - 0.055 }
 }
 
 #[inline]
 pub fn srgb_to_linear(v: f32) -> f32 {
-    if v <= 0.04045 {
-        v / 12.92
-    } else {
-        ((v + 0.055) / 1.055).powf(2.4)
-    }
+    if v <= 0.04045 { v / 12.92 } else { ((v + 0.055) / 1.055).powf(2.4) }
 }
 
 pub fn write_png(path: &Path, img: &Image, exposure: f32) -> Result<()> {
@@ -107,46 +82,27 @@ pub fn write_png(path: &Path, img: &Image, exposure: f32) -> Result<()> {
     let mut buf = Vec::with_capacity(img.pixels.len() * 3);
     for p in &img.pixels {
         for c in [p.x, p.y, p.z] {
-            let v = if c.is_finite() {
-                (c * scale).clamp(0.0, 1.0)
-            } else {
-                0.0
-            };
+            let v = if c.is_finite() { (c * scale).clamp(0.0, 1.0) } else { 0.0 };
             buf.push((linear_to_srgb(v) * 255.0 + 0.5) as u8);
         }
     }
     let tmp = temp_path(path);
-    image::save_buffer_with_format(
-        &tmp,
-        &buf,
-        img.width,
-        img.height,
-        image::ColorType::Rgb8,
-        image::ImageFormat::Png,
-    )
-    .map_err(|e| PrismError::format(path, format!("cannot write PNG: {e}")))?;
+    image::save_buffer_with_format(&tmp, &buf, img.width, img.height, image::ColorType::Rgb8, image::ImageFormat::Png)
+        .map_err(|e| PrismError::format(path, format!("cannot write PNG: {e}")))?;
     finish(&tmp, path)
 }
 
 /// Read an EXR (linear) or PNG (sRGB, converted to linear) image.
 pub fn read_image(path: &Path) -> Result<Image> {
     if !path.is_file() {
-        return Err(PrismError::io(
-            path,
-            std::io::Error::new(std::io::ErrorKind::NotFound, "image file not found"),
-        ));
+        return Err(PrismError::io(path, std::io::Error::new(std::io::ErrorKind::NotFound, "image file not found")));
     }
-    let ext = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .unwrap_or("")
-        .to_ascii_lowercase();
+    let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
     match ext.as_str() {
         "exr" => read_exr(path),
         "png" => {
-            let img = image::open(path)
-                .map_err(|e| PrismError::format(path, format!("cannot read PNG: {e}")))?
-                .to_rgb8();
+            let img =
+                image::open(path).map_err(|e| PrismError::format(path, format!("cannot read PNG: {e}")))?.to_rgb8();
             let (w, h) = img.dimensions();
             let pixels = img
                 .pixels()
@@ -160,10 +116,7 @@ pub fn read_image(path: &Path) -> Result<Image> {
                 .collect();
             Ok(Image::new(w, h, pixels))
         }
-        _ => Err(PrismError::invalid(format!(
-            "{}: unsupported image format (use .exr or .png)",
-            path.display()
-        ))),
+        _ => Err(PrismError::invalid(format!("{}: unsupported image format (use .exr or .png)", path.display()))),
     }
 }
 

@@ -2,20 +2,16 @@
 
 use super::LightSample;
 use crate::math::Frame;
-use crate::primitives::{EntityPrims, Primitives, SurfaceHit};
+use crate::primitives::{EntityPrims, Primitives, SurfaceHit, interpolation_error, sphere_point_error};
 use crate::sampling::warp;
 use glam::{Vec2, Vec3, Vec3A};
 use std::f32::consts::PI;
 
 #[derive(Clone, Debug)]
 pub enum AreaShape {
-    /// Triangles `first..first+count` of the primitives; `cdf[k]` = area of the first k+1 triangles / total.
-    Triangles {
-        first: u32,
-        count: u32,
-        cdf: Vec<f32>,
-        area: f32,
-    },
+    /// Triangles `first..first+count` of the primitives; `cdf[k]` = area of the first k+1 triangles / total;
+    /// `normals[k]` the unit geometric normal of triangle k.
+    Triangles { first: u32, count: u32, cdf: Vec<f32>, normals: Vec<Vec3A>, area: f32 },
     /// Sphere `index` of the primitives.
     Sphere { index: u32 },
 }
@@ -36,8 +32,7 @@ impl AreaLight {
         let shape = match ep.sphere {
             Some(index) => AreaShape::Sphere { index },
             None => {
-                let tris =
-                    &prims.tris[ep.first_tri as usize..(ep.first_tri + ep.tri_count) as usize];
+                let tris = &prims.tris[ep.first_tri as usize..(ep.first_tri + ep.tri_count) as usize];
                 let mut acc = 0.0f64;
                 let mut cdf: Vec<f32> = tris
                     .iter()
@@ -51,19 +46,11 @@ impl AreaLight {
                 if let Some(last) = cdf.last_mut() {
                     *last = 1.0;
                 }
-                AreaShape::Triangles {
-                    first: ep.first_tri,
-                    count: ep.tri_count,
-                    cdf,
-                    area,
-                }
+                let normals = tris.iter().map(|t| (t[1] - t[0]).cross(t[2] - t[0]).normalize()).collect();
+                AreaShape::Triangles { first: ep.first_tri, count: ep.tri_count, cdf, normals, area }
             }
         };
-        AreaLight {
-            radiance,
-            two_sided,
-            shape,
-        }
+        AreaLight { radiance, two_sided, shape }
     }
 
     /// Total surface area (exact for triangle sets and spheres; for ellipsoids the Knud Thomsen approximation,
@@ -77,15 +64,10 @@ impl AreaLight {
                     None => 4.0 * PI * s.radius * s.radius,
                     Some(x) => {
                         let m = x.world_from_object.matrix3;
-                        let (a, b, c) = (
-                            m.x_axis.length() * s.radius,
-                            m.y_axis.length() * s.radius,
-                            m.z_axis.length() * s.radius,
-                        );
+                        let (a, b, c) =
+                            (m.x_axis.length() * s.radius, m.y_axis.length() * s.radius, m.z_axis.length() * s.radius);
                         let p = 1.6075f32;
-                        4.0 * PI
-                            * (((a * b).powf(p) + (b * c).powf(p) + (c * a).powf(p)) / 3.0)
-                                .powf(1.0 / p)
+                        4.0 * PI * (((a * b).powf(p) + (b * c).powf(p) + (c * a).powf(p)) / 3.0).powf(1.0 / p)
                     }
                 }
             }
@@ -94,7 +76,7 @@ impl AreaLight {
 
     /// Convert an area-measure sample at `q` (normal `n`) seen from `p` into a light sample.
     #[inline]
-    fn from_area(&self, p: Vec3A, q: Vec3A, n: Vec3A, pdf_area: f32) -> Option<LightSample> {
+    fn sample_at_point(&self, p: Vec3A, q: Vec3A, q_err: Vec3A, n: Vec3A, pdf_area: f32) -> Option<LightSample> {
         let d = q - p;
         let dist2 = d.length_squared();
         if dist2 == 0.0 {
@@ -108,6 +90,7 @@ impl AreaLight {
         }
         Some(LightSample {
             p: q,
+            p_err: q_err,
             n,
             wi,
             dist,
@@ -119,12 +102,7 @@ impl AreaLight {
 
     pub fn sample(&self, prims: &Primitives, p: Vec3A, u: Vec2) -> Option<LightSample> {
         match &self.shape {
-            AreaShape::Triangles {
-                first,
-                count,
-                cdf,
-                area,
-            } => {
+            AreaShape::Triangles { first, count, cdf, normals, area } => {
                 // Pick a triangle by area, then reuse the remainder of u.x for the point inside it.
                 let k = cdf.partition_point(|&c| c <= u.x).min(*count as usize - 1);
                 let lo = if k == 0 { 0.0 } else { cdf[k - 1] };
@@ -132,8 +110,7 @@ impl AreaLight {
                 let t = &prims.tris[*first as usize + k];
                 let (b0, b1, b2) = warp::uniform_triangle(Vec2::new(ux, u.y));
                 let q = b0 * t[0] + b1 * t[1] + b2 * t[2];
-                let n = (t[1] - t[0]).cross(t[2] - t[0]).normalize();
-                self.from_area(p, q, n, 1.0 / area)
+                self.sample_at_point(p, q, interpolation_error([b0, b1, b2], t), normals[k], 1.0 / area)
             }
             AreaShape::Sphere { index } => {
                 let s = &prims.spheres[*index as usize];
@@ -145,12 +122,8 @@ impl AreaLight {
                         if dc2 <= r2 * 1.0001 {
                             // Inside (or on) the sphere: uniform by area.
                             let n = warp::uniform_sphere(u);
-                            return self.from_area(
-                                p,
-                                s.center + n * s.radius,
-                                n,
-                                1.0 / (4.0 * PI * r2),
-                            );
+                            let err = sphere_point_error(s.center, n * s.radius, None);
+                            return self.sample_at_point(p, s.center + n * s.radius, err, n, 1.0 / (4.0 * PI * r2));
                         }
                         // Uniform in the subtended cone; find the point on the sphere the direction hits.
                         let dc = dc2.sqrt();
@@ -175,6 +148,7 @@ impl AreaLight {
                         }
                         Some(LightSample {
                             p: q,
+                            p_err: sphere_point_error(s.center, n * s.radius, None),
                             n,
                             wi,
                             dist,
@@ -185,18 +159,12 @@ impl AreaLight {
                     }
                     Some(x) => {
                         let no = warp::uniform_sphere(u);
-                        let q = x
-                            .world_from_object
-                            .transform_point3a(s.center + no * s.radius);
+                        let q = x.world_from_object.transform_point3a(s.center + no * s.radius);
                         let nw = x.normal_to_world * no;
                         // dA_world = |det M| |M^-T n| dA_object
                         let jac = x.world_from_object.matrix3.determinant().abs() * nw.length();
-                        self.from_area(
-                            p,
-                            q,
-                            nw.normalize(),
-                            1.0 / (4.0 * PI * s.radius * s.radius * jac),
-                        )
+                        let err = sphere_point_error(s.center, no * s.radius, Some(x));
+                        self.sample_at_point(p, q, err, nw.normalize(), 1.0 / (4.0 * PI * s.radius * s.radius * jac))
                     }
                 }
             }
@@ -229,8 +197,7 @@ impl AreaLight {
                     Some(x) => {
                         let po = x.object_from_world.transform_point3a(hit.p);
                         let no = (po - s.center).normalize();
-                        let jac = x.world_from_object.matrix3.determinant().abs()
-                            * (x.normal_to_world * no).length();
+                        let jac = x.world_from_object.matrix3.determinant().abs() * (x.normal_to_world * no).length();
                         dist2 / (cos_l * 4.0 * PI * s.radius * s.radius * jac)
                     }
                 }

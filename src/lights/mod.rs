@@ -22,6 +22,8 @@ use glam::{Vec2, Vec3, Vec3A};
 pub struct LightSample {
     /// Point on the light (for delta lights: the light position, or far away along `wi`).
     pub p: Vec3A,
+    /// Floating-point error bound of `p` (zero for delta lights).
+    pub p_err: Vec3A,
     /// Surface normal at `p` (zero for point and directional lights).
     pub n: Vec3A,
     /// Unit direction from the reference point towards the light.
@@ -56,46 +58,26 @@ pub struct LightSet {
 
 impl LightSet {
     /// Collect the lights of the world. `emitters` are the entities with area lights, in slot order.
-    pub fn build(
-        world: &hecs::World,
-        prims: &Primitives,
-        emitters: &[(hecs::Entity, EntityPrims)],
-    ) -> Result<Self> {
+    pub fn build(world: &hecs::World, prims: &Primitives, emitters: &[(hecs::Entity, EntityPrims)]) -> Result<Self> {
         let mut lights = Vec::new();
         for (entity, ep) in emitters {
             let Ok(light) = world.get::<&Light>(*entity) else {
                 continue;
             };
-            if let Light::Area {
-                radiance,
-                two_sided,
-            } = *light
-            {
-                lights.push(LightSource::Area(AreaLight::new(
-                    prims, ep, radiance, two_sided,
-                )));
+            if let Light::Area { radiance, two_sided } = *light {
+                lights.push(LightSource::Area(AreaLight::new(prims, ep, radiance, two_sided)));
             }
         }
         let mut q = world.query::<(hecs::Entity, &Light, Option<&WorldFromLocal>)>();
-        let mut others: Vec<_> = q
-            .iter()
-            .filter(|(_, l, _)| !matches!(l, Light::Area { .. }))
-            .collect();
+        let mut others: Vec<_> = q.iter().filter(|(_, l, _)| !matches!(l, Light::Area { .. })).collect();
         others.sort_by_key(|(e, ..)| e.id());
         for (entity, light, wfl) in others {
             let m = wfl.map(|w| w.0).unwrap_or_default();
             match *light {
-                Light::Point {
-                    intensity,
-                    position,
-                } => lights.push(LightSource::Point {
-                    position: m.transform_point3a(position.into()),
-                    intensity,
-                }),
-                Light::Directional {
-                    irradiance,
-                    direction,
-                } => {
+                Light::Point { intensity, position } => {
+                    lights.push(LightSource::Point { position: m.transform_point3a(position.into()), intensity })
+                }
+                Light::Directional { irradiance, direction } => {
                     let d = m.transform_vector3a(direction.into());
                     let to_light = (-d).try_normalize().ok_or_else(|| {
                         PrismError::scene(
@@ -103,10 +85,7 @@ impl LightSet {
                             "directional light has a zero direction",
                         )
                     })?;
-                    lights.push(LightSource::Directional {
-                        to_light,
-                        irradiance,
-                    })
+                    lights.push(LightSource::Directional { to_light, irradiance })
                 }
                 Light::Area { .. } => {}
             }
@@ -133,10 +112,7 @@ impl LightSet {
     pub fn sample(&self, i: usize, prims: &Primitives, p: Vec3A, u: Vec2) -> Option<LightSample> {
         match &self.lights[i] {
             LightSource::Area(a) => a.sample(prims, p, u),
-            LightSource::Point {
-                position,
-                intensity,
-            } => {
+            LightSource::Point { position, intensity } => {
                 let d = *position - p;
                 let dist2 = d.length_squared();
                 if dist2 == 0.0 {
@@ -145,6 +121,7 @@ impl LightSet {
                 let dist = dist2.sqrt();
                 Some(LightSample {
                     p: *position,
+                    p_err: Vec3A::ZERO,
                     n: Vec3A::ZERO,
                     wi: d / dist,
                     dist,
@@ -153,11 +130,9 @@ impl LightSet {
                     delta: true,
                 })
             }
-            LightSource::Directional {
-                to_light,
-                irradiance,
-            } => Some(LightSample {
+            LightSource::Directional { to_light, irradiance } => Some(LightSample {
                 p: p + *to_light * 1e30,
+                p_err: Vec3A::ZERO,
                 n: Vec3A::ZERO,
                 wi: *to_light,
                 dist: f32::INFINITY,

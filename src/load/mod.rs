@@ -34,11 +34,7 @@ pub fn load_scene_system(world: &mut World, res: &mut Resources) -> Result<()> {
     let file_settings = match res.source.clone() {
         SceneSource::Prebuilt => FileSettings::default(),
         SceneSource::File(path) => load_file(&path, world, res)?,
-        SceneSource::RonText {
-            text,
-            name,
-            base_dir,
-        } => {
+        SceneSource::RonText { text, name, base_dir } => {
             let desc = parse_scene(&text, &name)?;
             spawn_scene(&desc, &text, &name, &base_dir, world, res)?
         }
@@ -50,11 +46,7 @@ pub fn load_scene_system(world: &mut World, res: &mut Resources) -> Result<()> {
 }
 
 fn load_file(path: &Path, world: &mut World, res: &mut Resources) -> Result<FileSettings> {
-    let ext = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .unwrap_or("")
-        .to_ascii_lowercase();
+    let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
     match ext.as_str() {
         "ron" => {
             let text = std::fs::read_to_string(path).map_err(|e| PrismError::io(path, e))?;
@@ -63,10 +55,9 @@ fn load_file(path: &Path, world: &mut World, res: &mut Resources) -> Result<File
             spawn_scene(&desc, &text, path, base, world, res)
         }
         "obj" => load_obj_scene(path, world, res),
-        "" => Err(PrismError::invalid(format!(
-            "{}: scene file has no extension (expected .ron or .obj)",
-            path.display()
-        ))),
+        "" => {
+            Err(PrismError::invalid(format!("{}: scene file has no extension (expected .ron or .obj)", path.display())))
+        }
         other => Err(PrismError::invalid(format!(
             "{}: unsupported scene format '.{other}' (expected .ron or .obj)",
             path.display()
@@ -78,10 +69,7 @@ fn load_file(path: &Path, world: &mut World, res: &mut Resources) -> Result<File
 /// (a directional light along the view, irradiance pi, so an albedo-a surface facing the camera shows radiance a).
 fn load_obj_scene(path: &Path, world: &mut World, res: &mut Resources) -> Result<FileSettings> {
     if !path.is_file() {
-        return Err(PrismError::io(
-            path,
-            std::io::Error::new(std::io::ErrorKind::NotFound, "scene file not found"),
-        ));
+        return Err(PrismError::io(path, std::io::Error::new(std::io::ErrorKind::NotFound, "scene file not found")));
     }
     res.materials.push(Material::default());
     let parts = load_obj(path)?;
@@ -103,15 +91,7 @@ fn load_obj_scene(path: &Path, world: &mut World, res: &mut Resources) -> Result
             world.insert_one(e, MaterialId(id)).ok();
         }
         if let Some(radiance) = part.emission {
-            world
-                .insert_one(
-                    e,
-                    Light::Area {
-                        radiance,
-                        two_sided: false,
-                    },
-                )
-                .ok();
+            world.insert_one(e, Light::Area { radiance, two_sided: false }).ok();
         }
     }
     let center = 0.5 * (lo + hi);
@@ -132,10 +112,7 @@ fn load_obj_scene(path: &Path, world: &mut World, res: &mut Resources) -> Result
     ));
     world.spawn((
         Name("headlight".into()),
-        Light::Directional {
-            irradiance: Vec3::splat(std::f32::consts::PI),
-            direction: -Vec3::Z,
-        },
+        Light::Directional { irradiance: Vec3::splat(std::f32::consts::PI), direction: -Vec3::Z },
     ));
     Ok(FileSettings::default())
 }
@@ -144,9 +121,7 @@ fn load_obj_scene(path: &Path, world: &mut World, res: &mut Resources) -> Result
 fn resolve_settings(world: &mut World, res: &mut Resources, f: FileSettings) -> Result<()> {
     let o = res.overrides.clone();
     let mut cams = world.query_mut::<&mut Camera>().into_iter();
-    let cam = cams
-        .next()
-        .ok_or_else(|| PrismError::invalid("the scene has no camera"))?;
+    let cam = cams.next().ok_or_else(|| PrismError::invalid("the scene has no camera"))?;
     if cams.next().is_some() {
         return Err(PrismError::invalid("the scene has more than one camera"));
     }
@@ -164,11 +139,8 @@ fn resolve_settings(world: &mut World, res: &mut Resources, f: FileSettings) -> 
     };
     let time_budget = o.time_budget.or(f.time);
     // A time budget given without a sample count renders until the budget is spent.
-    let spp = if o.spp_unlimited && o.spp.is_none() {
-        None
-    } else {
-        Some(o.spp.or(f.spp).unwrap_or(d.spp.unwrap_or(16)))
-    };
+    let spp =
+        if o.spp_unlimited && o.spp.is_none() { None } else { Some(o.spp.or(f.spp).unwrap_or(d.spp.unwrap_or(16))) };
     let default_passes = |n: u32| n.clamp(1, 16);
     let passes = match (o.passes, spp) {
         (Some(p), _) => p,

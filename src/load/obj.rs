@@ -1,7 +1,9 @@
 //! Wavefront OBJ import through tobj: triangulated, one index per vertex, each OBJ model (one material each)
 //! becomes one part. The MTL file's diffuse (Kd), specular (Ks), shininess (Ns) and emission (Ke) map onto Prism's
 //! physically based material (Kd is an albedo; Ka is ignored because ambient light is not physical); a part with
-//! a non-zero Ke becomes an area light of that radiance.
+//! a non-zero Ke becomes an area light of that radiance. The MTL illumination models that ask for ray tracing
+//! map onto Prism's delta lobes: `illum 3`/`5` make Ks a mirror reflectance, `illum 4`/`6`/`7`/`9` make the
+//! surface a smooth dielectric with index Ni and transmittance Tf (1 when absent).
 
 use crate::error::{PrismError, Result};
 use crate::material::Material;
@@ -19,26 +21,15 @@ pub struct ObjPart {
 /// Load every model of an OBJ file. A missing or broken MTL file is reported on stderr and ignored.
 pub fn load_obj(path: &Path) -> Result<Vec<ObjPart>> {
     if !path.is_file() {
-        return Err(PrismError::io(
-            path,
-            std::io::Error::new(std::io::ErrorKind::NotFound, "mesh file not found"),
-        ));
+        return Err(PrismError::io(path, std::io::Error::new(std::io::ErrorKind::NotFound, "mesh file not found")));
     }
-    let opts = tobj::LoadOptions {
-        triangulate: true,
-        single_index: true,
-        ignore_points: true,
-        ignore_lines: true,
-    };
-    let (models, materials) = tobj::load_obj(path, &opts)
-        .map_err(|e| PrismError::format(path, format!("cannot read OBJ: {e}")))?;
+    let opts = tobj::LoadOptions { triangulate: true, single_index: true, ignore_points: true, ignore_lines: true };
+    let (models, materials) =
+        tobj::load_obj(path, &opts).map_err(|e| PrismError::format(path, format!("cannot read OBJ: {e}")))?;
     let materials = match materials {
         Ok(m) => m,
         Err(e) => {
-            eprintln!(
-                "warning: {}: material library not loaded ({e}); using the entity's material",
-                path.display()
-            );
+            eprintln!("warning: {}: material library not loaded ({e}); using the entity's material", path.display());
             Vec::new()
         }
     };
@@ -48,38 +39,21 @@ pub fn load_obj(path: &Path) -> Result<Vec<ObjPart>> {
         if m.indices.is_empty() {
             continue;
         }
-        let positions: Vec<Vec3> = m
-            .positions
-            .chunks_exact(3)
-            .map(|p| Vec3::new(p[0], p[1], p[2]))
-            .collect();
+        let positions: Vec<Vec3> = m.positions.chunks_exact(3).map(|p| Vec3::new(p[0], p[1], p[2])).collect();
         let n = positions.len();
         let normals: Vec<Vec3> = if m.normals.len() == 3 * n {
-            m.normals
-                .chunks_exact(3)
-                .map(|p| Vec3::new(p[0], p[1], p[2]))
-                .collect()
+            m.normals.chunks_exact(3).map(|p| Vec3::new(p[0], p[1], p[2])).collect()
         } else {
             vec![]
         };
         let uvs: Vec<Vec2> = if m.texcoords.len() == 2 * n {
-            m.texcoords
-                .chunks_exact(2)
-                .map(|p| Vec2::new(p[0], p[1]))
-                .collect()
+            m.texcoords.chunks_exact(2).map(|p| Vec2::new(p[0], p[1])).collect()
         } else {
             vec![]
         };
-        let indices: Vec<[u32; 3]> = m
-            .indices
-            .chunks_exact(3)
-            .map(|t| [t[0], t[1], t[2]])
-            .collect();
+        let indices: Vec<[u32; 3]> = m.indices.chunks_exact(3).map(|t| [t[0], t[1], t[2]]).collect();
         if let Some(bad) = indices.iter().flatten().find(|&&i| i as usize >= n) {
-            return Err(PrismError::format(
-                path,
-                format!("model '{}': vertex index {bad} out of range", model.name),
-            ));
+            return Err(PrismError::format(path, format!("model '{}': vertex index {bad} out of range", model.name)));
         }
         let (material, emission) = match m.material_id.and_then(|id| materials.get(id)) {
             Some(mtl) => {
@@ -87,19 +61,25 @@ pub fn load_obj(path: &Path) -> Result<Vec<ObjPart>> {
                 let mut mat = Material::lambert(&mtl.name, c(mtl.diffuse));
                 mat.specular = c(mtl.specular);
                 mat.exponent = mtl.shininess.unwrap_or(1.0).max(0.0);
+                match mtl.illumination_model {
+                    Some(3 | 5) => {
+                        mat.reflective = mat.specular;
+                        mat.specular = Vec3::ZERO;
+                    }
+                    Some(4 | 6 | 7 | 9) => {
+                        mat.transparent = mtl.unknown_param.get("Tf").and_then(|t| parse_rgb(t)).unwrap_or(Vec3::ONE);
+                        mat.ior = mtl.optical_density.filter(|n| *n > 0.0).unwrap_or(1.5);
+                        mat.specular = Vec3::ZERO;
+                    }
+                    _ => {}
+                }
                 let ke = c(mtl.emissive);
                 (Some(mat), (ke != Vec3::ZERO).then_some(ke))
             }
             None => (None, None),
         };
         parts.push(ObjPart {
-            mesh: MeshData {
-                name: model.name,
-                positions,
-                normals,
-                uvs,
-                indices,
-            },
+            mesh: MeshData { name: model.name, positions, normals, uvs, indices },
             material,
             emission,
         });
@@ -108,4 +88,14 @@ pub fn load_obj(path: &Path) -> Result<Vec<ObjPart>> {
         return Err(PrismError::format(path, "OBJ file holds no triangles"));
     }
     Ok(parts)
+}
+
+/// "r g b" or "v" (grey) as a colour.
+fn parse_rgb(s: &str) -> Option<Vec3> {
+    let v: Vec<f32> = s.split_whitespace().map(str::parse).collect::<Result<_, _>>().ok()?;
+    match v.as_slice() {
+        [g] => Some(Vec3::splat(*g)),
+        [r, g, b] => Some(Vec3::new(*r, *g, *b)),
+        _ => None,
+    }
 }

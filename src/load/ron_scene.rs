@@ -11,15 +11,10 @@ use std::path::Path;
 /// Parse scene text. `file` only names the source in errors.
 pub fn parse_scene<'a>(text: &'a str, file: &Path) -> Result<SceneDesc<'a>> {
     let opts = ron::Options::default().with_default_extension(Extensions::IMPLICIT_SOME);
-    opts.from_str::<SceneDesc>(text)
-        .map_err(|e| PrismError::Parse {
-            pos: SourcePos {
-                file: file.to_path_buf(),
-                line: e.span.start.line,
-                col: e.span.start.col,
-            },
-            message: describe(&e.code),
-        })
+    opts.from_str::<SceneDesc>(text).map_err(|e| PrismError::Parse {
+        pos: SourcePos { file: file.to_path_buf(), line: e.span.start.line, col: e.span.start.col },
+        message: describe(&e.code),
+    })
 }
 
 /// RON's message, with the schema's type names replaced by what a scene author sees.
@@ -39,10 +34,7 @@ fn describe(code: &ron::Error) -> String {
 pub fn line_col(text: &str, offset: usize) -> (usize, usize) {
     let before = &text[..offset.min(text.len())];
     let line = before.matches('\n').count() + 1;
-    let col = before
-        .rfind('\n')
-        .map_or(before.chars().count(), |i| before[i + 1..].chars().count())
-        + 1;
+    let col = before.rfind('\n').map_or(before.chars().count(), |i| before[i + 1..].chars().count()) + 1;
     (line, col)
 }
 
@@ -55,27 +47,15 @@ pub fn plugin_config(raw: &RawValue, text: &str, file: &Path) -> Result<PluginCo
     let s = s.trim();
     let err = |msg: String| {
         let (line, col) = line_col(text, base + lead);
-        PrismError::Parse {
-            pos: SourcePos {
-                file: file.to_path_buf(),
-                line,
-                col,
-            },
-            message: msg,
-        }
+        PrismError::Parse { pos: SourcePos { file: file.to_path_buf(), line, col }, message: msg }
     };
     if s.starts_with('"') {
-        let name: String =
-            ron::from_str(s).map_err(|e| err(format!("integrator name: {}", e.code)))?;
+        let name: String = ron::from_str(s).map_err(|e| err(format!("integrator name: {}", e.code)))?;
         return Ok(PluginConfig::named(name));
     }
-    let ident_len = s
-        .find(|c: char| !(c.is_ascii_alphanumeric() || c == '_'))
-        .unwrap_or(s.len());
+    let ident_len = s.find(|c: char| !(c.is_ascii_alphanumeric() || c == '_')).unwrap_or(s.len());
     if ident_len == 0 {
-        return Err(err(format!(
-            "expected an integrator name like `phong` or `phong(max_depth: 4)`, found `{s}`"
-        )));
+        return Err(err(format!("expected an integrator name like `phong` or `phong(max_depth: 4)`, found `{s}`")));
     }
     let name = &s[..ident_len];
     let rest = &s[ident_len..];
@@ -91,10 +71,6 @@ pub fn plugin_config(raw: &RawValue, text: &str, file: &Path) -> Result<PluginCo
     Ok(PluginConfig {
         name: name.to_string(),
         params: Some(rest_trim.to_string()),
-        origin: Some(SourcePos {
-            file: file.to_path_buf(),
-            line,
-            col,
-        }),
+        origin: Some(SourcePos { file: file.to_path_buf(), line, col }),
     })
 }

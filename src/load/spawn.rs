@@ -2,9 +2,7 @@
 //! only the components it uses; materials and meshes go to the resource tables. All semantic validation happens
 //! here, with errors naming the file and the entity.
 
-use super::desc::{
-    AccelDesc, CameraDesc, EntityDesc, LightDesc, MaterialDesc, SceneDesc, ShapeDesc, V3,
-};
+use super::desc::{AccelDesc, CameraDesc, EntityDesc, LightDesc, MaterialDesc, SceneDesc, ShapeDesc, V3};
 use super::obj::load_obj;
 use super::ron_scene::plugin_config;
 use super::transform::compose;
@@ -49,20 +47,14 @@ struct Spawner<'r> {
 
 fn color(v: V3, what: &str, ctx: &str) -> Result<Vec3> {
     if v.iter().any(|x| !x.is_finite() || *x < 0.0) {
-        return Err(PrismError::scene(
-            ctx,
-            format!("{what} must be finite and non-negative, got {v:?}"),
-        ));
+        return Err(PrismError::scene(ctx, format!("{what} must be finite and non-negative, got {v:?}")));
     }
     Ok(Vec3::from(v))
 }
 
 fn point(v: V3, what: &str, ctx: &str) -> Result<Vec3> {
     if v.iter().any(|x| !x.is_finite()) {
-        return Err(PrismError::scene(
-            ctx,
-            format!("{what} contains NaN or infinity: {v:?}"),
-        ));
+        return Err(PrismError::scene(ctx, format!("{what} contains NaN or infinity: {v:?}")));
     }
     Ok(Vec3::from(v))
 }
@@ -102,10 +94,7 @@ pub fn spawn_scene(
     }
     let r = &desc.render;
     Ok(FileSettings {
-        integrator: r
-            .integrator
-            .map(|raw| plugin_config(raw, text, file))
-            .transpose()?,
+        integrator: r.integrator.map(|raw| plugin_config(raw, text, file)).transpose()?,
         accel: r.accel.map(|a| match a {
             AccelDesc::Bvh => AccelKind::Bvh,
             AccelDesc::Brute => AccelKind::Brute,
@@ -127,19 +116,11 @@ pub fn camera_component(c: &CameraDesc, ctx: &str) -> Result<Camera> {
     let projection = match c.orthographic {
         Some(h) if h.is_finite() && h > 0.0 => Projection::Orthographic { height: h },
         Some(h) => {
-            return Err(PrismError::scene(
-                ctx,
-                format!("orthographic height must be positive, got {h}"),
-            ));
+            return Err(PrismError::scene(ctx, format!("orthographic height must be positive, got {h}")));
         }
-        None if c.fov.is_finite() && c.fov > 0.0 && c.fov < 180.0 => {
-            Projection::Perspective { fov_y: c.fov }
-        }
+        None if c.fov.is_finite() && c.fov > 0.0 && c.fov < 180.0 => Projection::Perspective { fov_y: c.fov },
         None => {
-            return Err(PrismError::scene(
-                ctx,
-                format!("fov must be between 0 and 180 degrees, got {}", c.fov),
-            ));
+            return Err(PrismError::scene(ctx, format!("fov must be between 0 and 180 degrees, got {}", c.fov)));
         }
     };
     let fwd = target - eye;
@@ -149,14 +130,7 @@ pub fn camera_component(c: &CameraDesc, ctx: &str) -> Result<Camera> {
             "eye, target and up do not define a view (eye == target or up parallel to the view)",
         ));
     }
-    Ok(Camera {
-        eye,
-        target,
-        up,
-        projection,
-        width: c.size.0,
-        height: c.size.1,
-    })
+    Ok(Camera { eye, target, up, projection, width: c.size.0, height: c.size.1 })
 }
 
 impl Spawner<'_> {
@@ -168,25 +142,12 @@ impl Spawner<'_> {
         let ctx = format!("{}: material '{name}'", self.ctx());
         let mut emission = None;
         let mat = match m {
-            MaterialDesc::Lambert { albedo, two_sided } => Material {
-                two_sided: *two_sided,
-                ..Material::lambert(name, color(*albedo, "albedo", &ctx)?)
-            },
-            MaterialDesc::Phong {
-                ambient,
-                diffuse,
-                specular,
-                exponent,
-                reflective,
-                transparent,
-                ior,
-                two_sided,
-            } => {
+            MaterialDesc::Lambert { albedo, two_sided } => {
+                Material { two_sided: *two_sided, ..Material::lambert(name, color(*albedo, "albedo", &ctx)?) }
+            }
+            MaterialDesc::Phong { ambient, diffuse, specular, exponent, reflective, transparent, ior, two_sided } => {
                 if !(exponent.is_finite() && *exponent >= 0.0) {
-                    return Err(PrismError::scene(
-                        &ctx,
-                        format!("exponent must be >= 0, got {exponent}"),
-                    ));
+                    return Err(PrismError::scene(&ctx, format!("exponent must be >= 0, got {exponent}")));
                 }
                 Material {
                     name: name.to_string(),
@@ -200,27 +161,22 @@ impl Spawner<'_> {
                     two_sided: *two_sided,
                 }
             }
-            MaterialDesc::Mirror { reflectance } => Material {
-                reflective: color(*reflectance, "reflectance", &ctx)?,
-                ..Material::black(name)
-            },
+            MaterialDesc::Mirror { reflectance } => {
+                Material { reflective: color(*reflectance, "reflectance", &ctx)?, ..Material::black(name) }
+            }
             MaterialDesc::Glass { ior, transmittance } => Material {
                 transparent: color(*transmittance, "transmittance", &ctx)?,
                 ior: check_ior(*ior, &ctx)?,
                 ..Material::black(name)
             },
-            MaterialDesc::Emissive {
-                radiance,
-                two_sided,
-            } => {
+            MaterialDesc::Emissive { radiance, two_sided } => {
                 emission = Some((color(*radiance, "radiance", &ctx)?, *two_sided));
                 Material::black(name)
             }
         };
         self.res.materials.push(mat);
         let id = self.res.materials.len() as u32 - 1;
-        self.materials
-            .insert(name.to_string(), MaterialEntry { id, emission });
+        self.materials.insert(name.to_string(), MaterialEntry { id, emission });
         Ok(())
     }
 
@@ -232,11 +188,7 @@ impl Spawner<'_> {
                 ctx,
                 format!(
                     "unknown material '{name}' (defined: {})",
-                    if known.is_empty() {
-                        "none".into()
-                    } else {
-                        known.join(", ")
-                    }
+                    if known.is_empty() { "none".into() } else { known.join(", ") }
                 ),
             )
         })
@@ -261,54 +213,30 @@ impl Spawner<'_> {
             b.add(Parent(p));
         }
         let material_name = e.material.as_deref().or(inherited);
-        let entry = material_name
-            .map(|n| self.lookup_material(n, &ctx))
-            .transpose()?;
+        let entry = material_name.map(|n| self.lookup_material(n, &ctx)).transpose()?;
         let (mat_id, mat_emission) = match entry {
             Some(m) => (Some(m.id), m.emission),
             None => (None, None),
         };
         let light = match &e.light {
-            None => mat_emission.map(|(radiance, two_sided)| Light::Area {
-                radiance,
-                two_sided,
-            }),
+            None => mat_emission.map(|(radiance, two_sided)| Light::Area { radiance, two_sided }),
             Some(_) if mat_emission.is_some() && e.material.is_some() => {
-                return Err(PrismError::scene(
-                    &ctx,
-                    "has both an emissive material and a light; use one",
-                ));
+                return Err(PrismError::scene(&ctx, "has both an emissive material and a light; use one"));
             }
-            Some(LightDesc::Point {
-                intensity,
-                position,
-            }) => Some(Light::Point {
+            Some(LightDesc::Point { intensity, position }) => Some(Light::Point {
                 intensity: color(*intensity, "intensity", &ctx)?,
                 position: point(*position, "position", &ctx)?,
             }),
-            Some(LightDesc::Directional {
-                irradiance,
-                direction,
-            }) => {
+            Some(LightDesc::Directional { irradiance, direction }) => {
                 let d = point(*direction, "direction", &ctx)?;
                 if d == Vec3::ZERO {
-                    return Err(PrismError::scene(
-                        &ctx,
-                        "directional light direction is the zero vector",
-                    ));
+                    return Err(PrismError::scene(&ctx, "directional light direction is the zero vector"));
                 }
-                Some(Light::Directional {
-                    irradiance: color(*irradiance, "irradiance", &ctx)?,
-                    direction: d,
-                })
+                Some(Light::Directional { irradiance: color(*irradiance, "irradiance", &ctx)?, direction: d })
             }
-            Some(LightDesc::Area {
-                radiance,
-                two_sided,
-            }) => Some(Light::Area {
-                radiance: color(*radiance, "radiance", &ctx)?,
-                two_sided: *two_sided,
-            }),
+            Some(LightDesc::Area { radiance, two_sided }) => {
+                Some(Light::Area { radiance: color(*radiance, "radiance", &ctx)?, two_sided: *two_sided })
+            }
         };
         match (&light, &e.shape) {
             (Some(Light::Area { .. }), None) => {
@@ -359,23 +287,14 @@ impl Spawner<'_> {
                     cb.add(l);
                 }
                 (None, Some(radiance)) => {
-                    cb.add(Light::Area {
-                        radiance,
-                        two_sided: false,
-                    });
+                    cb.add(Light::Area { radiance, two_sided: false });
                 }
                 _ => {}
             }
             world.spawn(cb.build());
         }
         for (i, c) in e.children.iter().enumerate() {
-            self.spawn_entity(
-                world,
-                c,
-                Some(entity),
-                material_name,
-                &format!("{path}.children[{i}]"),
-            )?;
+            self.spawn_entity(world, c, Some(entity), material_name, &format!("{path}.children[{i}]"))?;
         }
         Ok(())
     }
@@ -384,45 +303,26 @@ impl Spawner<'_> {
         Ok(ShapeOut::One(match s {
             ShapeDesc::Sphere { center, radius } => {
                 if !(radius.is_finite() && *radius > 0.0) {
-                    return Err(PrismError::scene(
-                        ctx,
-                        format!("sphere radius must be positive, got {radius}"),
-                    ));
+                    return Err(PrismError::scene(ctx, format!("sphere radius must be positive, got {radius}")));
                 }
-                Shape::Sphere {
-                    center: point(*center, "sphere center", ctx)?,
-                    radius: *radius,
-                }
+                Shape::Sphere { center: point(*center, "sphere center", ctx)?, radius: *radius }
             }
             ShapeDesc::Plane { normal, offset } => {
                 let n = point(*normal, "plane normal", ctx)?;
                 if n == Vec3::ZERO || !offset.is_finite() {
-                    return Err(PrismError::scene(
-                        ctx,
-                        "plane needs a non-zero normal and a finite offset",
-                    ));
+                    return Err(PrismError::scene(ctx, "plane needs a non-zero normal and a finite offset"));
                 }
                 let len = n.length();
-                Shape::Plane {
-                    normal: n / len,
-                    offset: offset / len,
-                }
+                Shape::Plane { normal: n / len, offset: offset / len }
             }
-            ShapeDesc::Triangle {
-                vertices,
-                normals,
-                uvs,
-            } => {
+            ShapeDesc::Triangle { vertices, normals, uvs } => {
                 let p = [
                     point(vertices[0], "vertex", ctx)?,
                     point(vertices[1], "vertex", ctx)?,
                     point(vertices[2], "vertex", ctx)?,
                 ];
                 if (p[1] - p[0]).cross(p[2] - p[0]).length_squared() == 0.0 {
-                    return Err(PrismError::scene(
-                        ctx,
-                        format!("triangle has zero area: {vertices:?}"),
-                    ));
+                    return Err(PrismError::scene(ctx, format!("triangle has zero area: {vertices:?}")));
                 }
                 let n = normals
                     .map(|ns| -> Result<[Vec3; 3]> {
@@ -435,11 +335,7 @@ impl Spawner<'_> {
                         Ok(out)
                     })
                     .transpose()?;
-                Shape::Triangle {
-                    p,
-                    n,
-                    uv: uvs.map(|u| u.map(Vec2::from)),
-                }
+                Shape::Triangle { p, n, uv: uvs.map(|u| u.map(Vec2::from)) }
             }
             ShapeDesc::Quad { corners } => {
                 let mesh = match corners {
@@ -454,10 +350,7 @@ impl Spawner<'_> {
                         if (q[1] - q[0]).cross(q[2] - q[0]).length_squared() == 0.0
                             || (q[2] - q[0]).cross(q[3] - q[0]).length_squared() == 0.0
                         {
-                            return Err(PrismError::scene(
-                                ctx,
-                                format!("quad is degenerate (zero area): {c:?}"),
-                            ));
+                            return Err(PrismError::scene(ctx, format!("quad is degenerate (zero area): {c:?}")));
                         }
                         MeshData::quad("quad", q)
                     }
@@ -473,25 +366,15 @@ impl Spawner<'_> {
     }
 
     fn mesh_file(&mut self, path: &Path, flat: bool, ctx: &str) -> Result<ShapeOut> {
-        let ext = path
-            .extension()
-            .and_then(|e| e.to_str())
-            .unwrap_or("")
-            .to_ascii_lowercase();
+        let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
         if ext != "obj" {
             return Err(PrismError::scene(
                 ctx,
-                format!(
-                    "mesh '{}': unsupported format (expected .obj)",
-                    path.display()
-                ),
+                format!("mesh '{}': unsupported format (expected .obj)", path.display()),
             ));
         }
         if !path.is_file() {
-            return Err(PrismError::scene(
-                ctx,
-                format!("mesh file not found: {}", path.display()),
-            ));
+            return Err(PrismError::scene(ctx, format!("mesh file not found: {}", path.display())));
         }
         let key = path.to_path_buf();
         let parts = if let Some(p) = self.part_cache.get(&(key.clone(), flat)) {
@@ -507,21 +390,13 @@ impl Spawner<'_> {
                 let material = part.material.map(|m| {
                     let k = (key.clone(), m.name.clone());
                     *self.mtl_ids.entry(k).or_insert_with(|| {
-                        self.res.materials.push(Material {
-                            name: format!("{}:{}", path.display(), m.name),
-                            ..m
-                        });
+                        self.res.materials.push(Material { name: format!("{}:{}", path.display(), m.name), ..m });
                         self.res.materials.len() as u32 - 1
                     })
                 });
                 let name = part.mesh.name.clone();
                 let h = self.res.meshes.add(part.mesh);
-                out.push(MeshPart {
-                    name,
-                    shape: Shape::Mesh(h),
-                    material,
-                    emission: part.emission,
-                });
+                out.push(MeshPart { name, shape: Shape::Mesh(h), material, emission: part.emission });
             }
             self.part_cache.insert((key.clone(), flat), out.clone());
             out
@@ -550,9 +425,6 @@ fn check_ior(ior: f32, ctx: &str) -> Result<f32> {
     if ior.is_finite() && ior > 0.0 {
         Ok(ior)
     } else {
-        Err(PrismError::scene(
-            ctx,
-            format!("ior must be positive, got {ior}"),
-        ))
+        Err(PrismError::scene(ctx, format!("ior must be positive, got {ior}")))
     }
 }

@@ -22,10 +22,7 @@ fn finite(v: &[f32], what: &str, context: &str) -> Result<()> {
     if v.iter().all(|x| x.is_finite()) {
         Ok(())
     } else {
-        Err(bad(
-            context,
-            format!("{what} contains NaN or infinity: {v:?}"),
-        ))
+        Err(bad(context, format!("{what} contains NaN or infinity: {v:?}")))
     }
 }
 
@@ -40,9 +37,7 @@ fn op_matrix(op: &TransformOp, context: &str) -> Result<Affine3A> {
             if s.contains(&0.0) {
                 return Err(bad(
                     context,
-                    format!(
-                        "Scale {s:?} has a zero factor (the transform would not be invertible)"
-                    ),
+                    format!("Scale {s:?} has a zero factor (the transform would not be invertible)"),
                 ));
             }
             Affine3A::from_scale(Vec3::from(*s))
@@ -50,19 +45,14 @@ fn op_matrix(op: &TransformOp, context: &str) -> Result<Affine3A> {
         TransformOp::UniformScale(s) => {
             finite(&[*s], "UniformScale", context)?;
             if *s == 0.0 {
-                return Err(bad(
-                    context,
-                    "UniformScale is zero (the transform would not be invertible)",
-                ));
+                return Err(bad(context, "UniformScale is zero (the transform would not be invertible)"));
             }
             Affine3A::from_scale(Vec3::splat(*s))
         }
         TransformOp::Rotate { axis, degrees } => {
             finite(axis, "Rotate axis", context)?;
             finite(&[*degrees], "Rotate degrees", context)?;
-            let a = Vec3::from(*axis)
-                .try_normalize()
-                .ok_or_else(|| bad(context, "Rotate axis is the zero vector"))?;
+            let a = Vec3::from(*axis).try_normalize().ok_or_else(|| bad(context, "Rotate axis is the zero vector"))?;
             Affine3A::from_quat(Quat::from_axis_angle(a, degrees.to_radians()))
         }
         TransformOp::Euler(e) => {
@@ -76,13 +66,7 @@ fn op_matrix(op: &TransformOp, context: &str) -> Result<Affine3A> {
             let flat: Vec<f32> = rows.iter().flatten().copied().collect();
             finite(&flat, "Matrix", context)?;
             if rows[3] != [0.0, 0.0, 0.0, 1.0] {
-                return Err(bad(
-                    context,
-                    format!(
-                        "Matrix last row must be [0, 0, 0, 1] (affine), got {:?}",
-                        rows[3]
-                    ),
-                ));
+                return Err(bad(context, format!("Matrix last row must be [0, 0, 0, 1] (affine), got {:?}", rows[3])));
             }
             let m = Mat4::from_cols_array_2d(rows).transpose();
             Affine3A::from_mat4(m)

@@ -34,19 +34,13 @@ pub fn build_scene_system(world: &mut World, res: &mut Resources) -> Result<()> 
     let t0 = Instant::now();
     let camera = {
         let mut q = world.query::<(&Camera, Option<&WorldFromLocal>)>();
-        let (cam, wfl) = q
-            .iter()
-            .next()
-            .ok_or_else(|| PrismError::invalid("the scene has no camera"))?;
+        let (cam, wfl) = q.iter().next().ok_or_else(|| PrismError::invalid("the scene has no camera"))?;
         CameraRig::new(cam, &wfl.map(|w| w.0).unwrap_or_default())
             .ok_or_else(|| PrismError::invalid("camera: eye, target and up do not define a view"))?
     };
     let (prims, emitters) = Primitives::build(world, &res.meshes, res.materials.len() as u32)?;
     if prims.skipped_degenerate > 0 {
-        eprintln!(
-            "warning: skipped {} degenerate (zero-area or non-finite) mesh triangles",
-            prims.skipped_degenerate
-        );
+        eprintln!("warning: skipped {} degenerate (zero-area or non-finite) mesh triangles", prims.skipped_degenerate);
     }
     let accel = Accel::build(res.settings.accel, &prims)?;
     res.insert(Emitters(emitters));
@@ -63,14 +57,8 @@ pub fn build_scene_system(world: &mut World, res: &mut Resources) -> Result<()> 
 }
 
 pub fn build_lights_system(world: &mut World, res: &mut Resources) -> Result<()> {
-    let emitters = res
-        .get::<Emitters>()
-        .map(|e| e.0.clone())
-        .unwrap_or_default();
-    let scene = res
-        .scene
-        .as_mut()
-        .ok_or_else(|| PrismError::invalid("no scene: the BuildAccel stage did not run"))?;
+    let emitters = res.get::<Emitters>().map(|e| e.0.clone()).unwrap_or_default();
+    let scene = res.scene.as_mut().ok_or_else(|| PrismError::invalid("no scene: the BuildAccel stage did not run"))?;
     scene.lights = LightSet::build(world, &scene.prims, &emitters)?;
     Ok(())
 }
@@ -101,14 +89,9 @@ pub fn render_pass_system(_world: &mut World, res: &mut Resources) -> Result<()>
         first_sample: res.settings.samples_before_pass(pass),
         settings: &res.settings,
     };
-    let scene = res
-        .scene
-        .as_ref()
-        .ok_or_else(|| PrismError::invalid("no scene: the BuildAccel stage did not run"))?;
-    let integrator = res
-        .integrator
-        .as_mut()
-        .ok_or_else(|| PrismError::invalid("no integrator: the Prepare stage did not run"))?;
+    let scene = res.scene.as_ref().ok_or_else(|| PrismError::invalid("no scene: the BuildAccel stage did not run"))?;
+    let integrator =
+        res.integrator.as_mut().ok_or_else(|| PrismError::invalid("no integrator: the Prepare stage did not run"))?;
     let out = integrator.render_pass(scene, &info, &res.cancel);
     res.progress.elapsed = started.elapsed();
     res.pass_output = Some(out);
@@ -119,15 +102,10 @@ pub fn accumulate_system(_world: &mut World, res: &mut Resources) -> Result<()> 
     let Some(out) = res.pass_output.take() else {
         return Ok(());
     };
-    let film = res
-        .film
-        .as_mut()
-        .ok_or_else(|| PrismError::invalid("no film: the Prepare stage did not run"))?;
+    let film = res.film.as_mut().ok_or_else(|| PrismError::invalid("no film: the Prepare stage did not run"))?;
     film.merge(&out);
     let complete = match &out {
-        PassOutput::Samples(tiles) => {
-            tiles.len() == crate::integrator::tiles(film.width, film.height).len()
-        }
+        PassOutput::Samples(tiles) => tiles.len() == crate::integrator::tiles(film.width, film.height).len(),
         PassOutput::Estimate { complete, .. } => *complete,
     };
     let p = &mut res.progress;
@@ -152,9 +130,7 @@ pub fn accumulate_system(_world: &mut World, res: &mut Resources) -> Result<()> 
     // Checkpoint: keep what was rendered on disk while long renders run.
     if !finished
         && let Some(every) = res.checkpoint_every
-        && res
-            .get::<LastCheckpoint>()
-            .is_none_or(|c| c.0.elapsed() >= every)
+        && res.get::<LastCheckpoint>().is_none_or(|c| c.0.elapsed() >= every)
     {
         write_outputs(res)?;
         res.insert(LastCheckpoint(Instant::now()));
@@ -173,9 +149,7 @@ pub fn output_system(_world: &mut World, res: &mut Resources) -> Result<()> {
 
 /// The film's current image.
 pub fn film_image(res: &Resources) -> Option<Image> {
-    res.film
-        .as_ref()
-        .map(|f| Image::new(f.width, f.height, f.image()))
+    res.film.as_ref().map(|f| Image::new(f.width, f.height, f.image()))
 }
 
 fn write_outputs(res: &Resources) -> Result<()> {

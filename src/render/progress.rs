@@ -22,9 +22,7 @@ impl ProgressReporter {
         } else {
             "{spinner} [{elapsed_precise}] {bar:40} {pos}/{len} spp  ETA {eta}  {msg}"
         };
-        bar.set_style(
-            ProgressStyle::with_template(template).unwrap_or_else(|_| ProgressStyle::default_bar()),
-        );
+        bar.set_style(ProgressStyle::with_template(template).unwrap_or_else(|_| ProgressStyle::default_bar()));
         ProgressReporter { bar, by_time }
     }
 

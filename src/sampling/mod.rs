@@ -20,8 +20,5 @@ pub fn stratified_2d(i: u32, count: u32, scramble: u32, rng: &mut Rng) -> glam::
     let cells = n * n;
     let cell = permute(i, cells, scramble);
     let (cx, cy) = (cell % n, cell / n);
-    glam::Vec2::new(
-        (cx as f32 + rng.next_f32()) / n as f32,
-        (cy as f32 + rng.next_f32()) / n as f32,
-    )
+    glam::Vec2::new((cx as f32 + rng.next_f32()) / n as f32, (cy as f32 + rng.next_f32()) / n as f32)
 }

@@ -19,12 +19,8 @@ pub enum PixelPattern {
     Rgss,
 }
 
-const RGSS: [Vec2; 4] = [
-    Vec2::new(0.125, 0.625),
-    Vec2::new(0.375, 0.125),
-    Vec2::new(0.625, 0.875),
-    Vec2::new(0.875, 0.375),
-];
+const RGSS: [Vec2; 4] =
+    [Vec2::new(0.125, 0.625), Vec2::new(0.375, 0.125), Vec2::new(0.625, 0.875), Vec2::new(0.875, 0.375)];
 
 impl PixelPattern {
     pub fn parse(s: &str) -> Option<Self> {
@@ -55,11 +51,7 @@ impl PixelPattern {
                 let group = i / 4;
                 let in_group = count.saturating_sub(group * 4).min(4);
                 // A partial last group takes a random subset of the 4 points; each stays uniform once shifted.
-                let k = if in_group == 4 {
-                    i % 4
-                } else {
-                    permute(i % 4, 4, scramble ^ group)
-                };
+                let k = if in_group == 4 { i % 4 } else { permute(i % 4, 4, scramble ^ group) };
                 // One shift per group, derived from the pixel's key so all 4 samples of the group share it.
                 let h = hash_u64(((scramble as u64) << 32) | group as u64);
                 let shift = Vec2::new(

@@ -21,10 +21,7 @@ pub fn hash_u64(mut x: u64) -> u64 {
 impl Rng {
     /// A generator for one stream: `stream` selects the sequence, `seed` the starting point.
     pub fn new(seed: u64, stream: u64) -> Self {
-        let mut r = Rng {
-            state: 0,
-            inc: (stream << 1) | 1,
-        };
+        let mut r = Rng { state: 0, inc: (stream << 1) | 1 };
         r.next_u32();
         r.state = r.state.wrapping_add(seed);
         r.next_u32();

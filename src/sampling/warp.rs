@@ -42,11 +42,8 @@ pub fn concentric_disk(u: Vec2) -> Vec2 {
     if o.x == 0.0 && o.y == 0.0 {
         return Vec2::ZERO;
     }
-    let (r, theta) = if o.x.abs() > o.y.abs() {
-        (o.x, FRAC_PI_4 * (o.y / o.x))
-    } else {
-        (o.y, FRAC_PI_2 - FRAC_PI_4 * (o.x / o.y))
-    };
+    let (r, theta) =
+        if o.x.abs() > o.y.abs() { (o.x, FRAC_PI_4 * (o.y / o.x)) } else { (o.y, FRAC_PI_2 - FRAC_PI_4 * (o.x / o.y)) };
     Vec2::new(r * theta.cos(), r * theta.sin())
 }
 
@@ -75,11 +72,7 @@ pub fn phong_lobe(u: Vec2, exponent: f32) -> Vec3A {
 /// Pdf of [`phong_lobe`]: (n + 1) / (2 pi) cos^n.
 #[inline]
 pub fn phong_lobe_pdf(local: Vec3A, exponent: f32) -> f32 {
-    if local.z <= 0.0 {
-        0.0
-    } else {
-        (exponent + 1.0) * INV_2PI * local.z.powf(exponent)
-    }
+    if local.z <= 0.0 { 0.0 } else { (exponent + 1.0) * INV_2PI * local.z.powf(exponent) }
 }
 
 /// Uniform direction inside the cone of half-angle acos(cos_max) around +z.

@@ -1,0 +1,247 @@
+//! Ray–primitive geometry: watertightness on closed meshes, robustness at grazing angles and far away, the origin
+//! offset against self-intersection (shadow acne) and light leaking, optics identities.
+
+use glam::Vec3A;
+use prism::geometry::{Ray, WatertightRay, gamma, intersect_sphere, offset_ray_origin, spawn_ray};
+use prism::math::{Frame, fresnel_dielectric, refract};
+use prism::mesh::MeshData;
+use prism::primitives::sphere_point_error;
+use prism::sampling::{Rng, warp};
+
+/// A closed triangle mesh: an icosphere (subdivided octahedron, projected) with shared vertices.
+fn closed_mesh(level: u32) -> Vec<[Vec3A; 3]> {
+    let v = [Vec3A::X, -Vec3A::X, Vec3A::Y, -Vec3A::Y, Vec3A::Z, -Vec3A::Z];
+    let mut tris: Vec<[Vec3A; 3]> = vec![
+        [v[0], v[2], v[4]],
+        [v[2], v[1], v[4]],
+        [v[1], v[3], v[4]],
+        [v[3], v[0], v[4]],
+        [v[2], v[0], v[5]],
+        [v[1], v[2], v[5]],
+        [v[3], v[1], v[5]],
+        [v[0], v[3], v[5]],
+    ];
+    for _ in 0..level {
+        let mut next = Vec::new();
+        for [a, b, c] in tris {
+            let (ab, bc, ca) = ((a + b).normalize(), (b + c).normalize(), (c + a).normalize());
+            next.extend([[a, ab, ca], [ab, b, bc], [ca, bc, c], [ab, bc, ca]]);
+        }
+        tris = next;
+    }
+    tris
+}
+
+fn hits_any(tris: &[[Vec3A; 3]], ray: &Ray) -> bool {
+    let wt = WatertightRay::new(ray);
+    tris.iter().any(|t| wt.intersect(t[0], t[1], t[2], ray.tmax).is_some())
+}
+
+#[test]
+fn watertight_rays_from_inside_a_closed_mesh_always_hit_even_through_vertices_and_edges() {
+    let tris = closed_mesh(3);
+    let mut dirs: Vec<Vec3A> = Vec::new();
+    // Exactly through every vertex and every edge midpoint (the hard cases for non-watertight tests) ...
+    for t in &tris {
+        for i in 0..3 {
+            dirs.push(t[i].normalize());
+            dirs.push((t[i] + t[(i + 1) % 3]).normalize());
+        }
+    }
+    // ... and many random directions.
+    let mut rng = Rng::new(7, 1);
+    dirs.extend((0..20000).map(|_| warp::uniform_sphere(rng.next_2d())));
+    let origins = [Vec3A::ZERO, Vec3A::new(0.1, -0.2, 0.05), Vec3A::new(1e-4, 0.0, 0.0)];
+    let mut misses = 0;
+    for o in origins {
+        for d in &dirs {
+            if !hits_any(&tris, &Ray::new(o, *d)) {
+                misses += 1;
+            }
+        }
+    }
+    assert_eq!(misses, 0, "rays escaped a closed mesh through cracks");
+}
+
+#[test]
+fn watertight_rays_through_shared_edges_of_a_planar_fan_never_fall_through() {
+    // A fan of triangles around the origin in the z = 0 plane; rays straight down exactly along shared edges.
+    let n = 12;
+    let tris: Vec<[Vec3A; 3]> = (0..n)
+        .map(|i| {
+            let a0 = i as f32 / n as f32 * std::f32::consts::TAU;
+            let a1 = (i + 1) as f32 / n as f32 * std::f32::consts::TAU;
+            [Vec3A::ZERO, Vec3A::new(a0.cos(), a0.sin(), 0.0), Vec3A::new(a1.cos(), a1.sin(), 0.0)]
+        })
+        .collect();
+    for i in 0..n {
+        let a = i as f32 / n as f32 * std::f32::consts::TAU;
+        for r in [0.0, 0.25, 0.5, 0.9] {
+            let o = Vec3A::new(r * a.cos(), r * a.sin(), 1.0);
+            assert!(hits_any(&tris, &Ray::new(o, -Vec3A::Z)), "fell through at edge {i}, r = {r}");
+        }
+    }
+}
+
+#[test]
+fn triangle_barycentrics_reconstruct_the_hit_point() {
+    let (p0, p1, p2) = (Vec3A::new(0., 0., 0.), Vec3A::new(2., 0., 0.), Vec3A::new(0., 3., 1.));
+    let mut rng = Rng::new(3, 3);
+    for _ in 0..1000 {
+        let (b0, b1, b2) = warp::uniform_triangle(rng.next_2d());
+        let target = b0 * p0 + b1 * p1 + b2 * p2;
+        let o = Vec3A::new(0.3, -2.0, 4.0);
+        let ray = Ray::new(o, (target - o).normalize());
+        let h = WatertightRay::new(&ray).intersect(p0, p1, p2, f32::INFINITY).expect("hit");
+        let p = h.b0 * p0 + h.b1 * p1 + h.b2 * p2;
+        assert!((p - target).length() < 1e-5);
+        assert!((ray.at(h.t) - target).length() < 1e-4);
+        assert!((h.b0 + h.b1 + h.b2 - 1.0).abs() < 1e-5);
+    }
+}
+
+#[test]
+fn sphere_intersection_is_accurate_for_far_rays_and_large_spheres() {
+    // A unit sphere seen from 1e4 away: the hit must lie on the sphere to float precision of the sphere's scale.
+    let c = Vec3A::new(0.0, 0.0, 0.0);
+    let o = Vec3A::new(1.0e4, 0.3, -0.2);
+    let target = Vec3A::new(0.6, 0.0, 0.8);
+    let d = (target - o).normalize();
+    let t = intersect_sphere(c, 1.0, o, d, f32::INFINITY).unwrap();
+    let p = o + d * t;
+    assert!((p.length() - 1.0).abs() < 2e-3, "hit {p:?} not on the sphere");
+    // A huge sphere (radius 1e5), ray from just outside.
+    let t = intersect_sphere(Vec3A::ZERO, 1.0e5, Vec3A::new(0.0, 1.0e5 + 1.0, 0.0), -Vec3A::Y, f32::INFINITY).unwrap();
+    assert!((t - 1.0).abs() < 0.02, "t = {t}");
+    // Non-unit direction: t is in units of the direction (object-space intersection of transformed spheres).
+    let t2 = intersect_sphere(Vec3A::ZERO, 1.0, Vec3A::new(0.0, 0.0, 5.0), Vec3A::new(0.0, 0.0, -2.0), f32::INFINITY);
+    assert!((t2.unwrap() - 2.0).abs() < 1e-5);
+}
+
+#[test]
+fn offset_origins_do_not_self_intersect_at_grazing_angles_on_spheres_of_any_scale() {
+    // Shadow acne test: from points on a sphere, rays leaving at grazing angles (1e-3 rad above the tangent plane)
+    // must not re-hit the sphere; rays entering must hit the far side, not the near point again.
+    let mut rng = Rng::new(11, 2);
+    for scale in [1e-3f32, 1.0, 1e3, 1e5] {
+        let mut acne = 0;
+        for _ in 0..2000 {
+            let n = warp::uniform_sphere(rng.next_2d());
+            let p = n * scale;
+            let f = Frame::from_normal(n);
+            let phi = rng.next_f32() * std::f32::consts::TAU;
+            let grazing = 1e-3f32;
+            let out = f.to_world(Vec3A::new(grazing.cos() * phi.cos(), grazing.cos() * phi.sin(), grazing.sin()));
+            let err = sphere_point_error(Vec3A::ZERO, p, None);
+            let ray = spawn_ray(p, err, n, out);
+            if intersect_sphere(Vec3A::ZERO, scale, ray.origin, ray.dir, f32::INFINITY).is_some() {
+                acne += 1;
+            }
+            // Inward ray: the next hit is the far side, at distance 2 r cos(theta) > 0.
+            let ray = spawn_ray(p, err, n, -n);
+            let t = intersect_sphere(Vec3A::ZERO, scale, ray.origin, ray.dir, f32::INFINITY).expect("far side");
+            assert!((t - 2.0 * scale).abs() < 1e-5 * scale, "scale {scale}: far-side t {t}");
+        }
+        assert_eq!(acne, 0, "scale {scale}: grazing rays re-hit their own sphere");
+    }
+}
+
+#[test]
+fn offset_is_proportional_to_the_rounding_error_so_thin_walls_do_not_leak() {
+    // Two parallel quads 1e-4 apart (a thin wall); a ray spawned from the first towards the second must hit it.
+    let wall = MeshData::unit_quad();
+    let tri = |z: f32| -> Vec<[Vec3A; 3]> {
+        wall.indices
+            .iter()
+            .map(|i| i.map(|k| Vec3A::from(wall.positions[k as usize]) + Vec3A::new(0., 0., z)))
+            .collect()
+    };
+    let back = tri(-1e-4);
+    let mut rng = Rng::new(5, 5);
+    for _ in 0..1000 {
+        let p = Vec3A::new(rng.next_f32() * 1.6 - 0.8, rng.next_f32() * 1.6 - 0.8, 0.0);
+        let ray = spawn_ray(p, gamma(7) * p.abs(), Vec3A::Z, -Vec3A::Z);
+        // The hit point of an axis-aligned wall is exact in z: no offset is needed and none is applied.
+        assert!(ray.origin.z <= 0.0 && ray.origin.z > -1e-6, "offset moved too far: {:?}", ray.origin);
+        assert!(hits_any(&back, &ray), "ray leaked through a 1e-4 thick wall");
+    }
+    // The offset scales with the coordinates' magnitude: a few ULPs, at 1e-3 and at 1e5 alike.
+    for mag in [1e-3f32, 1.0, 1e5] {
+        let p = Vec3A::new(mag, 0.0, 0.0);
+        let o = offset_ray_origin(p, gamma(7) * p.abs(), Vec3A::X, Vec3A::X);
+        let ulps = o.x.to_bits() - mag.to_bits();
+        assert!((1..=8).contains(&ulps), "offset at magnitude {mag} is {ulps} ulps");
+    }
+}
+
+#[test]
+fn fresnel_reflectance_matches_the_closed_form_and_grazing_limit() {
+    // Normal incidence: R0 = ((eta - 1) / (eta + 1))^2, from either side; grazing: total reflection.
+    let eta = 1.5f32;
+    let r0 = ((eta - 1.0) / (eta + 1.0)).powi(2);
+    assert!((fresnel_dielectric(1.0, eta) - r0).abs() < 1e-6);
+    assert!((fresnel_dielectric(1.0, 1.0 / eta) - r0).abs() < 1e-6);
+    assert!((fresnel_dielectric(0.0, eta) - 1.0).abs() < 1e-6);
+}
+
+#[test]
+fn refraction_obeys_snells_law_and_detects_total_internal_reflection() {
+    let n = Vec3A::Z;
+    let wo = Vec3A::new(0.6, 0.0, 0.8);
+    let wt = refract(wo, n, 1.5).unwrap();
+    let sin_t = (wt.x * wt.x + wt.y * wt.y).sqrt() / wt.length();
+    assert!((0.6 - 1.5 * sin_t).abs() < 1e-5, "sin_i = eta sin_t");
+    assert!(wt.z < 0.0);
+    // Glass to air beyond the critical angle asin(1/1.5) = 41.8 deg.
+    assert!(refract(Vec3A::new(0.8, 0.0, 0.6), n, 1.0 / 1.5).is_none());
+    assert_eq!(fresnel_dielectric(0.6, 1.0 / 1.5), 1.0);
+}
+
+#[test]
+fn orthonormal_frames_are_right_handed_for_every_normal() {
+    let mut rng = Rng::new(1, 9);
+    let mut normals: Vec<Vec3A> = (0..1000).map(|_| warp::uniform_sphere(rng.next_2d())).collect();
+    normals.extend([Vec3A::Z, -Vec3A::Z, Vec3A::new(-1e-8, 1e-8, -1.0).normalize()]);
+    for n in normals {
+        let f = Frame::from_normal(n);
+        assert!((f.s.length() - 1.0).abs() < 1e-5 && (f.t.length() - 1.0).abs() < 1e-5);
+        assert!(f.s.dot(f.t).abs() < 1e-5 && f.s.dot(n).abs() < 1e-5 && f.t.dot(n).abs() < 1e-5);
+        assert!((f.s.cross(f.t) - n).length() < 1e-4);
+        let v = Vec3A::new(0.3, -0.4, 0.5);
+        assert!((f.to_world(f.to_local(v)) - v).length() < 1e-5);
+    }
+}
+
+#[test]
+fn transform_operations_compose_like_matrix_products() {
+    use glam::{Affine3A, Vec3};
+    use prism::load::compose;
+    use prism::load::desc::TransformOp::*;
+    let close =
+        |a: Affine3A, b: Affine3A| a.to_cols_array().iter().zip(b.to_cols_array()).all(|(x, y)| (x - y).abs() < 1e-5);
+    // Euler (x, y, z) degrees = Rz * Ry * Rx.
+    let euler = compose(&[Euler([10.0, 20.0, 30.0])], "t").unwrap();
+    let chain = compose(
+        &[
+            Rotate { axis: [0.0, 0.0, 1.0], degrees: 30.0 },
+            Rotate { axis: [0.0, 1.0, 0.0], degrees: 20.0 },
+            Rotate { axis: [1.0, 0.0, 0.0], degrees: 10.0 },
+        ],
+        "t",
+    )
+    .unwrap();
+    assert!(close(euler, chain));
+    // A row-major matrix equals the TRS it encodes; the list applies left to right as a product.
+    let trs = compose(&[Translate([1.0, 2.0, 3.0]), Scale([2.0, 3.0, 4.0])], "t").unwrap();
+    let m = compose(
+        &[Matrix([[2.0, 0.0, 0.0, 1.0], [0.0, 3.0, 0.0, 2.0], [0.0, 0.0, 4.0, 3.0], [0.0, 0.0, 0.0, 1.0]])],
+        "t",
+    )
+    .unwrap();
+    assert!(close(trs, m));
+    assert_eq!(trs.transform_point3(Vec3::ONE), Vec3::new(3.0, 5.0, 7.0), "scale first, then translate");
+    // Rotation by +90 degrees about x takes +z to -y (right-handed).
+    let r = compose(&[Rotate { axis: [1.0, 0.0, 0.0], degrees: 90.0 }], "t").unwrap();
+    assert!((r.transform_vector3(Vec3::Z) - Vec3::new(0.0, -1.0, 0.0)).length() < 1e-6);
+    assert!(compose(&[UniformScale(0.0)], "t").is_err());
+}

@@ -1,0 +1,235 @@
+//! Bad input gets a clear one-line error naming the problem, a non-zero exit code, never a panic.
+
+use crate::common::{data, prism, scratch};
+use std::path::PathBuf;
+
+/// Run `prism render` on scene text; return (exit ok, stderr).
+fn render_text(name: &str, text: &str, extra: &[&str]) -> (bool, String) {
+    let dir = scratch("io");
+    let scene = dir.join(name);
+    std::fs::write(&scene, text).unwrap();
+    let out = dir.join(format!("{name}.png"));
+    let mut args = vec!["render", scene.to_str().unwrap(), "-o", out.to_str().unwrap(), "-q"];
+    args.extend_from_slice(extra);
+    let o = prism(&args);
+    (o.status.success(), String::from_utf8_lossy(&o.stderr).to_string())
+}
+
+/// Assert a clean failure: non-zero exit, first line `error: ...` containing every needle, no panic.
+fn assert_error(ok: bool, stderr: &str, needles: &[&str]) {
+    assert!(!ok, "expected failure, stderr: {stderr}");
+    assert!(!stderr.contains("panicked"), "panic: {stderr}");
+    let first = stderr.lines().next().unwrap_or("");
+    assert!(first.starts_with("error:"), "first line is not an error: {stderr}");
+    for n in needles {
+        assert!(first.contains(n), "error line lacks {n:?}: {first}");
+    }
+}
+
+const OK_SCENE: &str = "(camera: (size: (8, 8)), entities: [(shape: Sphere())])";
+
+#[test]
+fn a_valid_minimal_scene_renders() {
+    let (ok, err) = render_text("ok.ron", OK_SCENE, &[]);
+    assert!(ok, "{err}");
+}
+
+#[test]
+fn missing_scene_file_is_named() {
+    let o = prism(&["render", "/nonexistent/scene.ron", "-q"]);
+    assert_error(o.status.success(), &String::from_utf8_lossy(&o.stderr), &["/nonexistent/scene.ron"]);
+}
+
+#[test]
+fn malformed_ron_reports_file_line_and_column() {
+    let (ok, err) = render_text(
+        "broken.ron",
+        "(\n  camera: (size: (8, 8)),\n  entities: [(shape: Sphere(radius: 1.0,,))],\n)",
+        &[],
+    );
+    assert_error(ok, &err, &["broken.ron:3:"]);
+}
+
+#[test]
+fn unknown_field_reports_position_and_expected_fields() {
+    let (ok, err) =
+        render_text("unknown.ron", "(camera: (size: (8, 8)),\n entities: [(shape: Sphere(radios: 2))])", &[]);
+    assert_error(ok, &err, &["unknown.ron:2:", "radios", "radius"]);
+}
+
+#[test]
+fn unknown_integrator_lists_the_available_ones() {
+    let (ok, err) = render_text("integ.ron", "(camera: (size: (8, 8)), render: (integrator: magic))", &[]);
+    assert_error(ok, &err, &["unknown integrator 'magic'", "phong"]);
+    let (ok, err) = render_text("integ2.ron", OK_SCENE, &["--integrator", "nope"]);
+    assert_error(ok, &err, &["unknown integrator 'nope'"]);
+}
+
+#[test]
+fn nan_in_a_transform_is_rejected_by_entity_name() {
+    let (ok, err) = render_text(
+        "nan.ron",
+        "(camera: (size: (8, 8)), entities: [(name: \"ball\", shape: Sphere(), transform: [Translate((NaN, 0, 0))])])",
+        &[],
+    );
+    assert_error(ok, &err, &["ball", "NaN"]);
+    let (ok, err) = render_text(
+        "inf.ron",
+        "(camera: (size: (8, 8)), entities: [(name: \"m\", shape: Sphere(), transform: [Matrix(((1,0,0,inf),(0,1,0,0),(0,0,1,0),(0,0,0,1)))])])",
+        &[],
+    );
+    assert_error(ok, &err, &["'m'", "NaN or infinity"]);
+}
+
+#[test]
+fn singular_and_projective_transforms_are_rejected() {
+    let (ok, err) = render_text(
+        "flat.ron",
+        "(camera: (size: (8, 8)), entities: [(name: \"pancake\", shape: Sphere(), transform: [Scale((1, 0, 1))])])",
+        &[],
+    );
+    assert_error(ok, &err, &["pancake", "zero factor"]);
+    let (ok, err) = render_text(
+        "proj.ron",
+        "(camera: (size: (8, 8)), entities: [(name: \"p\", shape: Sphere(), transform: [Matrix(((1,0,0,0),(0,1,0,0),(0,0,1,0),(0,0,1,1)))])])",
+        &[],
+    );
+    assert_error(ok, &err, &["'p'", "last row"]);
+}
+
+#[test]
+fn zero_area_triangle_is_rejected_by_entity_name() {
+    let (ok, err) = render_text(
+        "tri.ron",
+        "(camera: (size: (8, 8)), entities: [(name: \"sliver\", shape: Triangle(vertices: ((0,0,0), (1,1,1), (2,2,2))))])",
+        &[],
+    );
+    assert_error(ok, &err, &["sliver", "zero area"]);
+}
+
+#[test]
+fn empty_and_absurd_image_sizes_are_rejected() {
+    let (ok, err) = render_text("zero.ron", OK_SCENE, &["--size", "0x0"]);
+    assert_error(ok, &err, &["0x0"]);
+    let (ok, err) = render_text("zero2.ron", "(camera: (size: (0, 16)), entities: [])", &[]);
+    assert_error(ok, &err, &["0x16"]);
+    let (ok, err) = render_text("huge.ron", OK_SCENE, &["--size", "100000x100000"]);
+    assert_error(ok, &err, &["too large"]);
+    let (ok, err) = render_text("badsize.ron", OK_SCENE, &["--size", "wide"]);
+    assert_error(ok, &err, &["WIDTHxHEIGHT"]);
+}
+
+#[test]
+fn missing_mesh_names_the_path() {
+    let (ok, err) = render_text(
+        "mesh.ron",
+        "(camera: (size: (8, 8)), entities: [(name: \"statue\", shape: Mesh(path: \"no/such/bunny.obj\"))])",
+        &[],
+    );
+    assert_error(ok, &err, &["statue", "no/such/bunny.obj"]);
+}
+
+#[test]
+fn unknown_material_lists_the_defined_ones() {
+    let (ok, err) = render_text(
+        "mat.ron",
+        "(camera: (size: (8, 8)), materials: {\"red\": Lambert(albedo: (1, 0, 0))}, entities: [(name: \"b\", shape: Sphere(), material: \"blue\")])",
+        &[],
+    );
+    assert_error(ok, &err, &["unknown material 'blue'", "red"]);
+}
+
+#[test]
+fn non_physical_values_are_rejected() {
+    for (name, text, needle) in [
+        (
+            "neg.ron",
+            "(camera: (size: (8, 8)), materials: {\"m\": Lambert(albedo: (-1, 0, 0))}, entities: [])",
+            "non-negative",
+        ),
+        ("rad.ron", "(camera: (size: (8, 8)), entities: [(name: \"s\", shape: Sphere(radius: 0))])", "radius"),
+        ("fov.ron", "(camera: (size: (8, 8), fov: 180), entities: [])", "fov"),
+        ("eye.ron", "(camera: (size: (8, 8), eye: (0, 0, 0)), entities: [])", "eye == target"),
+        (
+            "alight.ron",
+            "(camera: (size: (8, 8)), entities: [(name: \"l\", light: Area(radiance: (1, 1, 1)))])",
+            "needs a shape",
+        ),
+        (
+            "plane.ron",
+            "(camera: (size: (8, 8)), entities: [(name: \"pl\", shape: Plane(), light: Area(radiance: (1, 1, 1)))])",
+            "plane cannot be an area light",
+        ),
+        ("nocam.ron", "(entities: [(shape: Sphere())])", "no camera"),
+        ("spp.ron", "(camera: (size: (8, 8)), render: (spp: 0))", "spp"),
+    ] {
+        let (ok, err) = render_text(name, text, &[]);
+        assert_error(ok, &err, &[needle]);
+    }
+}
+
+#[test]
+fn bad_command_line_values_are_rejected() {
+    for (args, needle) in [
+        (vec!["--accel", "octree"], "octree"),
+        (vec!["--pattern", "halton"], "halton"),
+        (vec!["--threads", "0"], "threads"),
+        (vec!["--time", "-1"], "time budget"),
+        (vec!["--spp", "4", "--passes", "8"], "passes"),
+        (vec!["-o", "image.jpg"], "unsupported output format"),
+    ] {
+        let (ok, err) = render_text("cli.ron", OK_SCENE, &args);
+        assert_error(ok, &err, &[needle]);
+    }
+}
+
+#[test]
+fn unsupported_scene_format_is_named() {
+    let (ok, err) = render_text("scene.xyz", "whatever", &[]);
+    assert_error(ok, &err, &["unsupported scene format"]);
+}
+
+#[test]
+fn an_obj_file_renders_directly_as_a_scene() {
+    let dir = scratch("objscene");
+    let out = dir.join("bunny.png");
+    let o = prism(&[
+        "render",
+        data("mit6837/assignment5/bunny_1k.obj").to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--size",
+        "32x32",
+        "--spp",
+        "1",
+        "-q",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let img = prism::io::read_image(&out).unwrap();
+    assert!(img.mean().x > 0.01, "the bunny is visible");
+}
+
+#[test]
+fn compare_reports_metrics_and_rejects_mismatched_sizes() {
+    let dir = scratch("compare");
+    let a = dir.join("a.exr");
+    let b = dir.join("b.exr");
+    let c = dir.join("c.exr");
+    let img = |v: f32, w: u32| prism::io::Image::new(w, 2, vec![glam::Vec3::splat(v); (w * 2) as usize]);
+    prism::io::write_exr(&a, &img(1.0, 2)).unwrap();
+    prism::io::write_exr(&b, &img(0.5, 2)).unwrap();
+    prism::io::write_exr(&c, &img(0.5, 3)).unwrap();
+    let o = prism(&["compare", a.to_str().unwrap(), b.to_str().unwrap(), "--json"]);
+    assert!(o.status.success());
+    let s = String::from_utf8_lossy(&o.stdout);
+    assert!(s.contains("\"rmse\": 0.5,") && s.contains("\"mae\": 0.5,"), "{s}");
+    let o = prism(&["compare", a.to_str().unwrap(), c.to_str().unwrap()]);
+    assert_error(o.status.success(), &String::from_utf8_lossy(&o.stderr), &["sizes differ"]);
+    let missing = PathBuf::from("/nonexistent.exr");
+    let o = prism(&["compare", a.to_str().unwrap(), missing.to_str().unwrap()]);
+    assert_error(o.status.success(), &String::from_utf8_lossy(&o.stderr), &["/nonexistent.exr"]);
+    let junk = dir.join("junk.exr");
+    std::fs::write(&junk, b"not an exr").unwrap();
+    let o = prism(&["compare", junk.to_str().unwrap(), a.to_str().unwrap()]);
+    assert_error(o.status.success(), &String::from_utf8_lossy(&o.stderr), &["junk.exr"]);
+}
