@@ -16,6 +16,21 @@ pub struct Metrics {
     pub mean_reference: [f64; 3],
 }
 
+impl Metrics {
+    /// One JSON object: `{"rmse": .., "relmse": .., "mae": .., "mean_test": [r, g, b], "mean_reference": [r, g, b]}`.
+    pub fn to_json(&self) -> String {
+        let v = |a: [f64; 3]| format!("[{}, {}, {}]", a[0], a[1], a[2]);
+        format!(
+            "{{\"rmse\": {}, \"relmse\": {}, \"mae\": {}, \"mean_test\": {}, \"mean_reference\": {}}}",
+            self.rmse,
+            self.relmse,
+            self.mae,
+            v(self.mean_test),
+            v(self.mean_reference)
+        )
+    }
+}
+
 pub fn compare(test: &Image, reference: &Image) -> Result<Metrics> {
     if (test.width, test.height) != (reference.width, reference.height) {
         return Err(PrismError::invalid(format!(
