@@ -11,6 +11,7 @@
 pub mod accel;
 pub mod app;
 pub mod camera;
+pub mod chart;
 pub mod cli;
 pub mod compare;
 pub mod components;

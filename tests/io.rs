@@ -233,3 +233,27 @@ fn compare_reports_metrics_and_rejects_mismatched_sizes() {
     let o = prism(&["compare", junk.to_str().unwrap(), a.to_str().unwrap()]);
     assert_error(o.status.success(), &String::from_utf8_lossy(&o.stderr), &["junk.exr"]);
 }
+
+#[test]
+fn charts_are_standalone_svg_with_one_polyline_per_series() {
+    use prism::chart::{Chart, Series};
+    let chart = Chart {
+        title: "RMSE vs time".into(),
+        x_label: "seconds".into(),
+        y_label: "RMSE".into(),
+        log_x: true,
+        log_y: true,
+        series: vec![
+            Series { name: "prism <phong>".into(), points: vec![(0.05, 0.2), (0.2, 0.1), (0.8, 0.05), (3.2, 0.025)] },
+            Series { name: "mitsuba".into(), points: vec![(0.1, 0.19), (0.4, 0.09), (1.6, 0.045), (0.0, 1.0)] },
+        ],
+    };
+    let svg = chart.to_svg();
+    assert!(svg.starts_with("<svg") && svg.trim_end().ends_with("</svg>"));
+    assert_eq!(svg.matches("<polyline").count(), 2);
+    assert!(svg.contains("prism &lt;phong&gt;"), "labels are escaped");
+    assert!(!svg.contains("NaN") && !svg.contains("inf"), "a zero x on a log axis is dropped, not drawn");
+    let path = scratch("chart").join("c.svg");
+    chart.write_svg(&path).unwrap();
+    assert!(std::fs::metadata(&path).unwrap().len() > 1000);
+}
