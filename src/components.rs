@@ -50,7 +50,7 @@ pub struct MaterialId(pub u32);
 
 /// A light. Physical units: `intensity` in W/sr (radiant intensity), `irradiance` in W/m^2 on a surface facing the
 /// light, `radiance` in W/(m^2 sr).
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub enum Light {
     /// An isotropic point light at `position` (local frame).
     Point { intensity: Vec3, position: Vec3 },
@@ -58,6 +58,9 @@ pub enum Light {
     Directional { irradiance: Vec3, direction: Vec3 },
     /// The entity's shape emits `radiance` from its front side (the side of its normal), or both sides.
     Area { radiance: Vec3, two_sided: bool },
+    /// Radiance arriving from infinitely far away: `radiance` times the map's value in the direction (rotated by
+    /// the entity's transform), or `radiance` alone without a map.
+    Environment { radiance: Vec3, map: Option<std::sync::Arc<crate::envmap::EnvMap>> },
 }
 
 /// Camera projection.

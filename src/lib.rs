@@ -10,11 +10,13 @@
 
 pub mod accel;
 pub mod app;
+pub mod bsdf;
 pub mod camera;
 pub mod chart;
 pub mod cli;
 pub mod compare;
 pub mod components;
+pub mod envmap;
 pub mod error;
 pub mod film;
 pub mod geometry;

@@ -49,6 +49,16 @@ impl Scene {
         &self.materials[id as usize]
     }
 
+    /// Radiance arriving along a ray that leaves the scene in unit direction `dir`: the environment light's, or the
+    /// background's when there is none.
+    #[inline]
+    pub fn escaped(&self, dir: Vec3A) -> Vec3 {
+        match &self.lights.environment {
+            Some(env) => env.eval(dir),
+            None => self.globals.background,
+        }
+    }
+
     /// Radiance emitted by the surface at `s` towards `wo` (unit, pointing away from the surface).
     #[inline]
     pub fn emitted(&self, s: &SurfaceHit, wo: Vec3A) -> Vec3 {

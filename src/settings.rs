@@ -25,6 +25,20 @@ impl PluginConfig {
         PluginConfig { name: name.into(), params: None, origin: None }
     }
 
+    /// Parse a command-line spec: `name` or `name(param: value, ...)` (parameters are checked by the plugin).
+    pub fn from_spec(spec: &str) -> Result<Self> {
+        let s = spec.trim();
+        let ident = s.find(|c: char| !(c.is_ascii_alphanumeric() || c == '_')).unwrap_or(s.len());
+        let rest = s[ident..].trim();
+        if ident == 0 || !(rest.is_empty() || (rest.starts_with('(') && rest.ends_with(')'))) {
+            return Err(PrismError::invalid(format!(
+                "integrator spec '{spec}': expected `name` or `name(param: value, ...)`"
+            )));
+        }
+        let params = (!rest.is_empty()).then(|| rest.to_string());
+        Ok(PluginConfig { name: s[..ident].to_string(), params, origin: None })
+    }
+
     /// Deserialize the plugin's parameter struct (defaults when none were given). Errors point into the scene file.
     pub fn parse_params<T: DeserializeOwned + Default>(&self) -> Result<T> {
         let Some(text) = &self.params else {

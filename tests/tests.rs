@@ -6,6 +6,8 @@ mod common;
 mod accel;
 mod analytic;
 mod determinism;
+mod envlight;
+mod envmap;
 mod geometry;
 mod io;
 mod plugin;

@@ -20,7 +20,7 @@ pub struct RenderArgs {
     /// Output image(s); .png (sRGB) or .exr (linear). Repeat for several. Default: SCENE-NAME.png.
     #[arg(short, long = "output")]
     pub output: Vec<PathBuf>,
-    /// Integrator plugin (e.g. phong).
+    /// Integrator plugin, `name` or `name(param: value, ...)`, e.g. `envlight(max_depth: 2)`.
     #[arg(long)]
     pub integrator: Option<String>,
     /// Accelerator: bvh or brute.

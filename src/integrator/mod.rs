@@ -73,6 +73,31 @@ pub trait Integrator: Send + Sync {
     fn render_pass(&mut self, scene: &Scene, pass: &PassInfo, cancel: &AtomicBool) -> PassOutput;
 }
 
+/// Which sample of its pixel a camera ray is: sample `index` of `count` (over the whole render when the sample
+/// count is known, otherwise within the pass), with a per-pixel `key`. Integrators draw stratified 2D points for
+/// their first, most important dimensions from it: each dimension is stratified over the pixel's samples on its
+/// own (padded, with a different permutation per dimension).
+#[derive(Clone, Copy, Debug)]
+pub struct PixelSample {
+    pub index: u32,
+    pub count: u32,
+    pub key: u32,
+}
+
+impl PixelSample {
+    /// A lone sample (no stratification).
+    pub fn independent() -> Self {
+        PixelSample { index: 0, count: 1, key: 0 }
+    }
+
+    /// The stratified 2D point of dimension `dim` for this sample.
+    #[inline]
+    pub fn stratified_2d(&self, dim: u32, rng: &mut Rng) -> glam::Vec2 {
+        let key = self.key ^ (dim.wrapping_add(1)).wrapping_mul(0x9E37_79B9);
+        crate::sampling::stratified_2d(self.index, self.count, key, rng)
+    }
+}
+
 /// An estimator of the radiance arriving along a camera ray.
 pub trait PixelIntegrator: Send + Sync {
     fn prepare(&mut self, _scene: &Scene, _settings: &RenderSettings) -> Result<()> {
@@ -81,4 +106,10 @@ pub trait PixelIntegrator: Send + Sync {
 
     /// Radiance along `ray` (towards its origin), using `rng` for every random decision.
     fn radiance(&self, scene: &Scene, ray: Ray, rng: &mut Rng) -> Vec3;
+
+    /// As `radiance`, with the camera sample's place among its pixel's samples for stratified dimensions.
+    /// `PerPixel` calls this; the default ignores the stratification.
+    fn radiance_stratified(&self, scene: &Scene, ray: Ray, _sample: &PixelSample, rng: &mut Rng) -> Vec3 {
+        self.radiance(scene, ray, rng)
+    }
 }

@@ -1,7 +1,7 @@
 //! Tile-parallel rendering of a [`PixelIntegrator`]: rayon over 16x16 tiles, each pixel's random numbers seeded
 //! from (seed, pixel, pass), so the image does not depend on the number of threads or the order tiles run in.
 
-use super::{Integrator, PassInfo, PassOutput, PixelIntegrator, Tile, TileSamples};
+use super::{Integrator, PassInfo, PassOutput, PixelIntegrator, PixelSample, Tile, TileSamples};
 use crate::error::Result;
 use crate::sampling::{Rng, hash_u64};
 use crate::scene::Scene;
@@ -45,7 +45,8 @@ impl<T: PixelIntegrator> PerPixel<T> {
                 for i in 0..pass.spp {
                     let off = s.pattern.offset(base + i, total, key, &mut rng);
                     let ray = scene.camera.generate_ray(Vec2::new(x as f32 + off.x, y as f32 + off.y));
-                    let l = self.0.radiance(scene, ray, &mut rng);
+                    let sample = PixelSample { index: base + i, count: total, key: key.rotate_left(16) ^ 0x5bd1_e995 };
+                    let l = self.0.radiance_stratified(scene, ray, &sample, &mut rng);
                     if l.is_finite() {
                         sum += l;
                     } else {

@@ -9,8 +9,10 @@
 //! - ellipsoids (spheres under non-uniform scale): uniform on the object-space sphere, with the exact area Jacobian.
 
 mod area;
+mod environment;
 
 pub use area::{AreaLight, AreaShape};
+pub use environment::EnvironmentLight;
 
 use crate::components::{Light, WorldFromLocal};
 use crate::error::{PrismError, Result};
@@ -51,9 +53,12 @@ pub enum LightSource {
     },
 }
 
+/// The scene's lights: `lights` are sampled by `sample` (area lights first, in slot order); the environment, if
+/// any, is kept apart because the integrators that importance-sample it own that sampler.
 #[derive(Clone, Debug, Default)]
 pub struct LightSet {
     pub lights: Vec<LightSource>,
+    pub environment: Option<EnvironmentLight>,
 }
 
 impl LightSet {
@@ -68,17 +73,29 @@ impl LightSet {
                 lights.push(LightSource::Area(AreaLight::new(prims, ep, radiance, two_sided)));
             }
         }
+        let mut environment = None;
         let mut q = world.query::<(hecs::Entity, &Light, Option<&WorldFromLocal>)>();
         let mut others: Vec<_> = q.iter().filter(|(_, l, _)| !matches!(l, Light::Area { .. })).collect();
         others.sort_by_key(|(e, ..)| e.id());
         for (entity, light, wfl) in others {
             let m = wfl.map(|w| w.0).unwrap_or_default();
-            match *light {
-                Light::Point { intensity, position } => {
-                    lights.push(LightSource::Point { position: m.transform_point3a(position.into()), intensity })
+            match light {
+                Light::Point { intensity, position } => lights.push(LightSource::Point {
+                    position: m.transform_point3a((*position).into()),
+                    intensity: *intensity,
+                }),
+                Light::Environment { radiance, map } => {
+                    if environment.is_some() {
+                        return Err(PrismError::scene(
+                            crate::load::entity_label(world, entity),
+                            "a scene can have only one environment light",
+                        ));
+                    }
+                    environment = Some(EnvironmentLight::new(*radiance, map.clone(), &m));
                 }
                 Light::Directional { irradiance, direction } => {
-                    let d = m.transform_vector3a(direction.into());
+                    let irradiance = *irradiance;
+                    let d = m.transform_vector3a((*direction).into());
                     let to_light = (-d).try_normalize().ok_or_else(|| {
                         PrismError::scene(
                             crate::load::entity_label(world, entity),
@@ -90,7 +107,7 @@ impl LightSet {
                 Light::Area { .. } => {}
             }
         }
-        Ok(LightSet { lights })
+        Ok(LightSet { lights, environment })
     }
 
     pub fn len(&self) -> usize {

@@ -259,4 +259,19 @@ pub enum LightDesc {
         #[serde(default)]
         two_sided: bool,
     },
+    /// Light from infinitely far away: `radiance * scale * map(direction)`, or the constant `radiance * scale`.
+    /// `map` is one file (equirect or vertical cross), `faces` six files (px nx py ny pz nz); the entity's
+    /// transform rotates the map.
+    Environment {
+        #[serde(default)]
+        map: Option<String>,
+        #[serde(default)]
+        faces: Option<[String; 6]>,
+        #[serde(default)]
+        layout: Option<crate::envmap::SourceLayout>,
+        #[serde(default = "one3")]
+        radiance: V3,
+        #[serde(default = "unit")]
+        scale: f32,
+    },
 }

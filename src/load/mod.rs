@@ -131,9 +131,10 @@ fn resolve_settings(world: &mut World, res: &mut Resources, f: FileSettings) -> 
     }
     let (width, height) = (cam.width, cam.height);
     let d = RenderSettings::default();
-    let integrator = match (&o.integrator, f.integrator) {
-        (Some(name), Some(cfg)) if *name == cfg.name => cfg,
-        (Some(name), _) => PluginConfig::named(name.clone()),
+    // A bare `--integrator NAME` naming the scene's integrator keeps the scene's parameters.
+    let integrator = match (o.integrator.as_deref().map(PluginConfig::from_spec).transpose()?, f.integrator) {
+        (Some(spec), Some(cfg)) if spec.name == cfg.name && spec.params.is_none() => cfg,
+        (Some(spec), _) => spec,
         (None, Some(cfg)) => cfg,
         (None, None) => d.integrator.clone(),
     };

@@ -237,6 +237,28 @@ impl Spawner<'_> {
             Some(LightDesc::Area { radiance, two_sided }) => {
                 Some(Light::Area { radiance: color(*radiance, "radiance", &ctx)?, two_sided: *two_sided })
             }
+            Some(LightDesc::Environment { map, faces, layout, radiance, scale }) => {
+                if !(scale.is_finite() && *scale >= 0.0) {
+                    return Err(PrismError::scene(&ctx, format!("environment scale must be >= 0, got {scale}")));
+                }
+                let paths: Vec<PathBuf> = match (map, faces) {
+                    (Some(_), Some(_)) => {
+                        return Err(PrismError::scene(&ctx, "give either `map` or `faces`, not both"));
+                    }
+                    (Some(m), None) => vec![self.base_dir.join(m)],
+                    (None, Some(f)) => f.iter().map(|p| self.base_dir.join(p)).collect(),
+                    (None, None) => vec![],
+                };
+                let map = if paths.is_empty() {
+                    None
+                } else {
+                    Some(std::sync::Arc::new(
+                        crate::envmap::EnvMap::load(&paths, *layout)
+                            .map_err(|e| PrismError::scene(&ctx, e.to_string()))?,
+                    ))
+                };
+                Some(Light::Environment { radiance: color(*radiance, "radiance", &ctx)? * *scale, map })
+            }
         };
         match (&light, &e.shape) {
             (Some(Light::Area { .. }), None) => {
@@ -245,10 +267,10 @@ impl Spawner<'_> {
                     "an area light needs a shape (sphere, triangle, quad, cube or mesh)",
                 ));
             }
-            (Some(Light::Point { .. } | Light::Directional { .. }), Some(_)) => {
+            (Some(Light::Point { .. } | Light::Directional { .. } | Light::Environment { .. }), Some(_)) => {
                 return Err(PrismError::scene(
                     &ctx,
-                    "a point or directional light cannot have a shape; use an Area light or a child entity",
+                    "a point, directional or environment light cannot have a shape; use an Area light or a child entity",
                 ));
             }
             _ => {}
@@ -265,10 +287,10 @@ impl Spawner<'_> {
         if let Some(id) = mat_id {
             b.add(MaterialId(id));
         }
-        if let Some(l) = light
+        if let Some(l) = &light
             && mesh_parts.is_empty()
         {
-            b.add(l);
+            b.add(l.clone());
         }
         let entity = world.spawn(b.build());
         // A multi-part OBJ: one child entity per part, each with the MTL material unless the entity names one.
@@ -282,9 +304,9 @@ impl Spawner<'_> {
                 (None, Some(id)) => cb.add(MaterialId(id)),
                 (None, None) => &mut cb,
             };
-            match (light, part.emission) {
+            match (&light, part.emission) {
                 (Some(l), _) => {
-                    cb.add(l);
+                    cb.add(l.clone());
                 }
                 (None, Some(radiance)) => {
                     cb.add(Light::Area { radiance, two_sided: false });

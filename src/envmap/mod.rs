@@ -1,0 +1,235 @@
+//! Environment maps: radiance from every direction, read from Radiance `.hdr` (RGBE) or OpenEXR files in one of
+//! three layouts, with bilinear lookup.
+//!
+//! **Direction convention** (env frame; the entity's transform rotates it into the world):
+//! - equirectangular (2:1): `u = 0.5 + atan2(x, -z) / 2 pi`, `v = acos(y) / pi`: the image centre is straight ahead
+//!   along -z (where a default camera looks), +x is at u = 0.75 (to the right, not mirrored), +y is the top row;
+//! - cube faces are stored as seen from inside the cube, with frames (centre, image-right, image-down):
+//!   +x: (+x, +z, -y), -x: (-x, -z, -y), +y: (+y, +x, -z), -y: (-y, +x, +z), +z: (+z, -x, -y), -z: (-z, +x, -y).
+//!   A vertical cross (3 x 4 faces) holds +y (row 0, middle), -x, -z, +x (row 1), -y (row 2, middle) and +z (row 3,
+//!   middle, stored rotated by 180 degrees); six separate faces `px nx py ny pz nz` follow the three.js / OpenGL
+//!   cube-map convention (a world direction w is looked up as (-w.x, w.y, w.z) in the GL face tables).
+//!
+//! Texels that are NaN or negative are replaced by 0 (counted in a warning); infinite texels are an error.
+
+mod cube;
+mod image_file;
+
+pub use cube::{CUBE_FACES, FaceFrame, cube_coords, cube_direction, cube_jacobian, cube_texel_solid_angle};
+
+use crate::error::{PrismError, Result};
+use glam::{Vec2, Vec3, Vec3A};
+use std::f32::consts::PI;
+use std::path::{Path, PathBuf};
+
+/// One rectangular image of linear RGB radiance (a panorama or a cube face), row-major from the top-left.
+#[derive(Clone, Debug, PartialEq)]
+pub struct EnvImage {
+    pub width: u32,
+    pub height: u32,
+    pub texels: Vec<Vec3>,
+}
+
+impl EnvImage {
+    #[inline]
+    pub fn texel(&self, x: u32, y: u32) -> Vec3 {
+        self.texels[(y * self.width + x) as usize]
+    }
+
+    /// Bilinear lookup at continuous coordinates `uv` in [0,1]^2; x wraps when `wrap_x`, otherwise clamps.
+    #[inline]
+    fn bilinear(&self, uv: Vec2, wrap_x: bool) -> Vec3 {
+        let (w, h) = (self.width as i64, self.height as i64);
+        let x = uv.x * w as f32 - 0.5;
+        let y = uv.y * h as f32 - 0.5;
+        let (x0, y0) = (x.floor(), y.floor());
+        let (fx, fy) = (x - x0, y - y0);
+        let (x0, y0) = (x0 as i64, y0 as i64);
+        let cx = |x: i64| if wrap_x { x.rem_euclid(w) } else { x.clamp(0, w - 1) };
+        let cy = |y: i64| y.clamp(0, h - 1);
+        let t = |x: i64, y: i64| self.texels[(cy(y) * w + cx(x)) as usize];
+        let top = t(x0, y0) * (1.0 - fx) + t(x0 + 1, y0) * fx;
+        let bottom = t(x0, y0 + 1) * (1.0 - fx) + t(x0 + 1, y0 + 1) * fx;
+        top * (1.0 - fy) + bottom * fy
+    }
+}
+
+/// How the map's images are arranged.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum EnvLayout {
+    /// One 2:1 latitude–longitude panorama.
+    Equirect,
+    /// Six square faces in the order +x, -x, +y, -y, +z, -z.
+    Cube,
+}
+
+/// Layout of the file(s) a map is read from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Deserialize)]
+pub enum SourceLayout {
+    Equirect,
+    Cross,
+    Faces,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct EnvMap {
+    pub layout: EnvLayout,
+    /// One image (equirect) or six faces (cube).
+    pub images: Vec<EnvImage>,
+    /// Texels replaced by 0 because they were NaN or negative.
+    pub clamped_texels: usize,
+}
+
+/// Equirect (u, v) of a unit direction in the env frame.
+#[inline]
+pub fn equirect_coords(d: Vec3A) -> Vec2 {
+    let u = 0.5 + d.x.atan2(-d.z) / (2.0 * PI);
+    let v = d.y.clamp(-1.0, 1.0).acos() / PI;
+    Vec2::new(u - u.floor(), v)
+}
+
+/// Unit direction of equirect coordinates.
+#[inline]
+pub fn equirect_direction(uv: Vec2) -> Vec3A {
+    let theta = uv.y * PI;
+    let phi = (uv.x - 0.5) * 2.0 * PI;
+    let s = theta.sin();
+    Vec3A::new(s * phi.sin(), theta.cos(), -s * phi.cos())
+}
+
+impl EnvMap {
+    pub fn equirect(image: EnvImage) -> Self {
+        EnvMap { layout: EnvLayout::Equirect, images: vec![image], clamped_texels: 0 }
+    }
+
+    pub fn cube(faces: Vec<EnvImage>) -> Self {
+        EnvMap { layout: EnvLayout::Cube, images: faces, clamped_texels: 0 }
+    }
+
+    /// Load a map. `paths` holds one file (equirect or cross) or six (faces, in the order px nx py ny pz nz).
+    /// `layout` `None` guesses from the file count and the aspect ratio (2:1 equirect, 3:4 cross).
+    pub fn load(paths: &[PathBuf], layout: Option<SourceLayout>) -> Result<Self> {
+        let layout = match (layout, paths.len()) {
+            (Some(l), _) => l,
+            (None, 6) => SourceLayout::Faces,
+            (None, 1) => {
+                let img = image_file::read(&paths[0])?;
+                return Self::from_single(img, &paths[0], None);
+            }
+            (None, n) => return Err(PrismError::invalid(format!("an environment map needs 1 or 6 files, got {n}"))),
+        };
+        match layout {
+            SourceLayout::Faces => {
+                if paths.len() != 6 {
+                    return Err(PrismError::invalid(format!(
+                        "a six-face environment map needs 6 files (px nx py ny pz nz), got {}",
+                        paths.len()
+                    )));
+                }
+                let mut files = Vec::with_capacity(6);
+                let mut clamped = 0;
+                for p in paths {
+                    let (img, c) = image_file::read(p)?;
+                    clamped += c;
+                    files.push((img, p.clone()));
+                }
+                let mut map = cube::from_gl_faces(files)?;
+                map.clamped_texels = clamped;
+                Ok(map)
+            }
+            single => {
+                if paths.len() != 1 {
+                    return Err(PrismError::invalid(format!(
+                        "a {single:?} environment map is one file, got {}",
+                        paths.len()
+                    )));
+                }
+                let img = image_file::read(&paths[0])?;
+                Self::from_single(img, &paths[0], Some(single))
+            }
+        }
+    }
+
+    fn from_single(img: (EnvImage, usize), path: &Path, layout: Option<SourceLayout>) -> Result<Self> {
+        let (image, clamped) = img;
+        let (w, h) = (image.width, image.height);
+        let layout = layout.unwrap_or(if w == 2 * h {
+            SourceLayout::Equirect
+        } else if 4 * w == 3 * h {
+            SourceLayout::Cross
+        } else {
+            return Err(PrismError::format(
+                path,
+                format!("cannot tell the layout of a {w}x{h} map: expected 2:1 (equirect) or 3:4 (vertical cross)"),
+            ));
+        });
+        let mut map = match layout {
+            SourceLayout::Equirect => EnvMap::equirect(image),
+            SourceLayout::Cross => {
+                if w % 3 != 0 || 4 * w != 3 * h {
+                    return Err(PrismError::format(
+                        path,
+                        format!("a vertical cross must be 3:4 with square faces, got {w}x{h}"),
+                    ));
+                }
+                cube::from_cross(&image)
+            }
+            SourceLayout::Faces => unreachable!("faces are six files"),
+        };
+        map.clamped_texels = clamped;
+        Ok(map)
+    }
+
+    /// Radiance arriving from unit direction `d` (env frame), bilinearly filtered.
+    #[inline]
+    pub fn lookup(&self, d: Vec3A) -> Vec3 {
+        match self.layout {
+            EnvLayout::Equirect => self.images[0].bilinear(equirect_coords(d), true),
+            EnvLayout::Cube => {
+                let (face, uv) = cube_coords(d);
+                self.images[face].bilinear(uv, false)
+            }
+        }
+    }
+
+    /// (image, u, v) of a direction.
+    #[inline]
+    pub fn coords(&self, d: Vec3A) -> (usize, Vec2) {
+        match self.layout {
+            EnvLayout::Equirect => (0, equirect_coords(d)),
+            EnvLayout::Cube => cube_coords(d),
+        }
+    }
+
+    /// Direction of (image, u, v).
+    #[inline]
+    pub fn direction(&self, image: usize, uv: Vec2) -> Vec3A {
+        match self.layout {
+            EnvLayout::Equirect => equirect_direction(uv),
+            EnvLayout::Cube => cube_direction(image, uv),
+        }
+    }
+
+    /// Solid angle per unit (u, v) area at a point of an image: 2 pi^2 sin(theta) for equirect, the face
+    /// Jacobian 4 / (1 + s^2 + t^2)^(3/2) for cube faces.
+    #[inline]
+    pub fn jacobian(&self, uv: Vec2) -> f32 {
+        match self.layout {
+            EnvLayout::Equirect => 2.0 * PI * PI * (uv.y * PI).sin(),
+            EnvLayout::Cube => cube_jacobian(uv),
+        }
+    }
+
+    /// Exact solid angle of texel (x, y) of an image.
+    pub fn texel_solid_angle(&self, image: usize, x: u32, y: u32) -> f32 {
+        let img = &self.images[image];
+        match self.layout {
+            EnvLayout::Equirect => {
+                let t0 = y as f64 / img.height as f64 * std::f64::consts::PI;
+                let t1 = (y + 1) as f64 / img.height as f64 * std::f64::consts::PI;
+                ((t0.cos() - t1.cos()) * 2.0 * std::f64::consts::PI / img.width as f64) as f32
+            }
+            EnvLayout::Cube => cube_texel_solid_angle(img.width, x, y),
+        }
+    }
+}
