@@ -127,7 +127,7 @@ fn seam_ratio(map: &EnvMap) -> f64 {
     let (mut seam, mut seams) = (0.0, 0);
     let (mut inner, mut inners) = (0.0, 0);
     let h = 0.5 / n as f32;
-    for face in 0..6 {
+    for (face, fr) in CUBE_FACES.iter().enumerate() {
         for i in 0..n {
             let t = (i as f32 + 0.5) / n as f32;
             for (inside, outside) in [
@@ -136,7 +136,6 @@ fn seam_ratio(map: &EnvMap) -> f64 {
                 (Vec2::new(t, h), Vec2::new(t, -h)),
                 (Vec2::new(t, 1.0 - h), Vec2::new(t, 1.0 + h)),
             ] {
-                let fr = &CUBE_FACES[face];
                 let out_dir = fr.center + fr.right * (2.0 * outside.x - 1.0) + fr.down * (2.0 * outside.y - 1.0);
                 let (g, uv) = cube_coords(out_dir);
                 seam += (nearest(face, inside) - nearest(g, uv)).abs();
@@ -194,7 +193,7 @@ fn bad_environment_files_give_clear_errors() {
     let e = EnvMap::load(&[not_hdr], None).unwrap_err().to_string();
     assert!(e.contains("text.hdr") && e.contains("Radiance"), "{e}");
     let wrong = write_cells("wrong_aspect.exr", 30, 30, |_, _| Vec3::ONE);
-    let e = EnvMap::load(&[wrong.clone()], None).unwrap_err().to_string();
+    let e = EnvMap::load(std::slice::from_ref(&wrong), None).unwrap_err().to_string();
     assert!(e.contains("2:1") && e.contains("3:4"), "{e}");
     let e = EnvMap::load(&[wrong], Some(SourceLayout::Cross)).unwrap_err().to_string();
     assert!(e.contains("3:4"), "{e}");
