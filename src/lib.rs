@@ -16,6 +16,7 @@ pub mod chart;
 pub mod cli;
 pub mod compare;
 pub mod components;
+pub mod converge;
 pub mod envmap;
 pub mod error;
 pub mod film;

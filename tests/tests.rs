@@ -5,6 +5,7 @@ mod common;
 
 mod accel;
 mod analytic;
+mod converge;
 mod determinism;
 mod envlight;
 mod envmap;

@@ -1,8 +1,12 @@
 //! Quad-tree importance sampling of an environment map (hierarchical sample warping, McCool & Harwood 1997).
 //!
-//! The target density is the map's luminance in solid angle, so each texel weighs `luminance x exact texel solid
-//! angle` (sin(theta) for equirect, the face Jacobian for cube faces). One tree per image (one for equirect, six for
-//! a cube) over its texel rectangle, split at the midpoints.
+//! The target density is the luminance the integrator actually sees, in solid angle. Lookups are bilinear, so a
+//! texel's footprint receives light from its neighbours too (half a sun's value near the sun's edges): each texel
+//! therefore weighs the exact mean of the bilinearly filtered luminance over its footprint (a 3x3 kernel: 9/16 the
+//! texel, 3/32 each edge neighbour, 1/64 each corner, with the lookup's wrap/clamp rules) times its exact solid
+//! angle (sin(theta) integrated for equirect, the face Jacobian integrated for cube faces). A pdf built from raw
+//! texels would sample a bright texel's neighbours at the sky's rate and return huge spikes whenever it hit them.
+//! One tree per image (one for equirect, six for a cube) over its texel rectangle, split at the midpoints.
 //!
 //! **Subdivision criterion**: a node is split into (up to) four children unless it is a single texel, or its
 //! texel weights are uniform to within a factor `1 + epsilon` (the piecewise-constant leaf is then exact to that
@@ -15,7 +19,7 @@
 //! points), and finishes with a uniform point of the leaf's texel rectangle. **pdf** finds the leaf of a direction
 //! and returns `leaf weight / total / leaf (u,v) area / Jacobian(u,v)`, so `sample` and `pdf` agree exactly.
 
-use crate::envmap::EnvMap;
+use crate::envmap::{EnvImage, EnvLayout, EnvMap};
 use crate::math::luminance;
 use glam::{Vec2, Vec3A};
 
@@ -55,15 +59,17 @@ pub struct EnvSample {
 impl QuadTree {
     /// Build over `map`; `None` when the map is black.
     pub fn build(map: &EnvMap) -> Option<QuadTree> {
+        let wrap_x = map.layout == EnvLayout::Equirect;
         let weights: Vec<Vec<f64>> = map
             .images
             .iter()
             .enumerate()
             .map(|(k, img)| {
+                let filtered = filtered_luminance(img, wrap_x);
                 let mut w = Vec::with_capacity(img.texels.len());
                 for y in 0..img.height {
                     for x in 0..img.width {
-                        w.push(luminance(img.texel(x, y)).max(0.0) as f64 * map.texel_solid_angle(k, x, y) as f64);
+                        w.push(filtered[(y * img.width + x) as usize] * map.texel_solid_angle(k, x, y) as f64);
                     }
                 }
                 w
@@ -216,4 +222,25 @@ impl QuadTree {
         let j = map.jacobian(uv);
         if j <= 0.0 { 0.0 } else { self.leaf_pdf(node, w, h, j) }
     }
+}
+
+/// Mean over each texel's footprint of the bilinearly interpolated luminance (the lookup's own filter): the 3x3
+/// kernel (1, 6, 1; 6, 36, 6; 1, 6, 1) / 64, wrapping x when the lookup wraps and clamping otherwise.
+fn filtered_luminance(img: &EnvImage, wrap_x: bool) -> Vec<f64> {
+    let (w, h) = (img.width as i64, img.height as i64);
+    let lum: Vec<f64> = img.texels.iter().map(|t| luminance(*t).max(0.0) as f64).collect();
+    let at = |x: i64, y: i64| {
+        let x = if wrap_x { x.rem_euclid(w) } else { x.clamp(0, w - 1) };
+        lum[(y.clamp(0, h - 1) * w + x) as usize]
+    };
+    let mut out = Vec::with_capacity(lum.len());
+    for y in 0..h {
+        for x in 0..w {
+            let centre = at(x, y);
+            let edges = at(x - 1, y) + at(x + 1, y) + at(x, y - 1) + at(x, y + 1);
+            let corners = at(x - 1, y - 1) + at(x + 1, y - 1) + at(x - 1, y + 1) + at(x + 1, y + 1);
+            out.push((36.0 * centre + 6.0 * edges + corners) / 64.0);
+        }
+    }
+    out
 }

@@ -1,6 +1,7 @@
-//! The `prism` command line (clap), per DESIGN section 3: `render` and `compare`.
+//! The `prism` command line (clap), per DESIGN section 3: `render`, `compare`, `converge`.
 
 mod compare_cmd;
+mod converge_cmd;
 mod render_cmd;
 
 use clap::{Parser, Subcommand};
@@ -17,6 +18,8 @@ pub struct Cli {
 pub enum Command {
     /// Render a scene (.ron or .obj) to PNG and/or EXR.
     Render(render_cmd::RenderArgs),
+    /// Error against a reference as the budget grows: CSV and charts, one curve per integrator.
+    Converge(converge_cmd::ConvergeArgs),
     /// Compare an image with a reference: RMSE, relMSE, mean absolute error.
     Compare {
         /// The image to test (.exr or .png).
@@ -33,6 +36,7 @@ pub enum Command {
 pub fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Command::Render(args) => render_cmd::run(args),
+        Command::Converge(args) => converge_cmd::run(args),
         Command::Compare { test, reference, json } => compare_cmd::run(&test, &reference, json),
     }
 }

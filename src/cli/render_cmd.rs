@@ -65,7 +65,7 @@ fn parse_pattern(s: &str) -> Result<PixelPattern, String> {
     PixelPattern::parse(s).ok_or_else(|| format!("unknown pattern '{s}' (expected random, stratified or rgss)"))
 }
 
-fn parse_size(s: &str) -> Result<(u32, u32), String> {
+pub(super) fn parse_size(s: &str) -> Result<(u32, u32), String> {
     let (w, h) = s.split_once(['x', 'X']).ok_or_else(|| format!("expected WIDTHxHEIGHT, got '{s}'"))?;
     let w = w.trim().parse::<u32>().map_err(|_| format!("bad width in '{s}'"))?;
     let h = h.trim().parse::<u32>().map_err(|_| format!("bad height in '{s}'"))?;

@@ -1,0 +1,94 @@
+//! `prism converge SCENE --reference REF.exr --integrator A [--integrator B ...] (--spp 1,4,16 | --times 1,2,4)
+//! -o DIR [--peer curves.csv --peer-scene cornell --peer-variant llvm_ad_rgb]`: error-vs-budget curves.
+
+use crate::converge::{Budget, PeerCurve, measure, read_peer, time_to_error, write_results};
+use crate::error::PrismError;
+use crate::io::read_image;
+use crate::settings::Overrides;
+use clap::Args;
+use std::path::PathBuf;
+
+#[derive(Args, Debug, Clone)]
+pub struct ConvergeArgs {
+    /// Scene file.
+    pub scene: PathBuf,
+    /// Reference image (.exr).
+    #[arg(long)]
+    pub reference: PathBuf,
+    /// Integrator spec, `name` or `name(param: value, ...)`; repeat for several curves.
+    #[arg(long = "integrator", required = true)]
+    pub integrators: Vec<String>,
+    /// Sample counts, comma-separated (e.g. 1,4,16,64).
+    #[arg(long, value_delimiter = ',', conflicts_with = "times")]
+    pub spp: Vec<u32>,
+    /// Time budgets in seconds, comma-separated (e.g. 0.5,1,2,4).
+    #[arg(long, value_delimiter = ',')]
+    pub times: Vec<f64>,
+    /// Output directory for convergence.csv and the charts.
+    #[arg(short, long = "output")]
+    pub output: PathBuf,
+    /// A peer's curves (CSV with scene,spp,seconds,rmse,variant columns), drawn alongside.
+    #[arg(long)]
+    pub peer: Option<PathBuf>,
+    #[arg(long, default_value = "cornell")]
+    pub peer_scene: String,
+    #[arg(long, default_value = "llvm_ad_rgb")]
+    pub peer_variant: String,
+    #[arg(long, value_parser = super::render_cmd::parse_size)]
+    pub size: Option<(u32, u32)>,
+    #[arg(long)]
+    pub seed: Option<u64>,
+    #[arg(long)]
+    pub threads: Option<usize>,
+}
+
+pub fn run(a: ConvergeArgs) -> anyhow::Result<()> {
+    let budgets: Vec<Budget> = if !a.spp.is_empty() {
+        a.spp.iter().map(|&n| Budget::Spp(n)).collect()
+    } else if !a.times.is_empty() {
+        if a.times.iter().any(|t| !(t.is_finite() && *t > 0.0)) {
+            return Err(PrismError::invalid("--times must be positive numbers of seconds").into());
+        }
+        a.times.iter().map(|&t| Budget::Seconds(t)).collect()
+    } else {
+        return Err(PrismError::invalid("give the budgets with --spp N,N,... or --times S,S,...").into());
+    };
+    if a.threads == Some(0) {
+        return Err(PrismError::invalid("--threads must be at least 1").into());
+    }
+    let reference = read_image(&a.reference)?;
+    let peer: Option<PeerCurve> = a.peer.as_ref().map(|p| read_peer(p, &a.peer_scene, &a.peer_variant)).transpose()?;
+    let base = Overrides { size: a.size, seed: a.seed, ..Default::default() };
+    let mut builder = rayon::ThreadPoolBuilder::new();
+    if let Some(n) = a.threads {
+        builder = builder.num_threads(n);
+    }
+    let pool = builder.build().map_err(|e| PrismError::invalid(format!("cannot start threads: {e}")))?;
+    eprintln!("{:<40} {:>6} {:>9} {:>10}", "integrator", "spp", "seconds", "RMSE");
+    let points = pool.install(|| {
+        measure(&a.scene, &reference, &a.integrators, &budgets, &base, |p| {
+            eprintln!("{:<40} {:>6} {:>9.3} {:>10.5}", p.integrator, p.spp, p.seconds, p.rmse);
+        })
+    })?;
+    let title = a.scene.file_stem().map(|s| s.to_string_lossy().to_string()).unwrap_or_default();
+    let files = write_results(&a.output, &points, peer.as_ref(), &title)?;
+    if let Some(peer) = &peer {
+        // Equal-error time: when does each curve reach the peer's lowest error?
+        let target = peer.points.iter().map(|p| p.2).fold(f64::INFINITY, f64::min);
+        let peer_t = time_to_error(&peer.points.iter().map(|p| (p.1, p.2)).collect::<Vec<_>>(), target);
+        for spec in &a.integrators {
+            let ours: Vec<(f64, f64)> =
+                points.iter().filter(|p| &p.integrator == spec).map(|p| (p.seconds, p.rmse)).collect();
+            match (time_to_error(&ours, target), peer_t) {
+                (Some(t), Some(pt)) => eprintln!(
+                    "equal error RMSE {target:.4}: {spec} {t:.2} s vs {} {pt:.2} s ({:.2}x)",
+                    peer.name,
+                    pt / t
+                ),
+                _ => eprintln!("equal error RMSE {target:.4}: {spec} did not reach it within the budgets"),
+            }
+        }
+    }
+    eprintln!("wrote {}", files.iter().map(|f| f.display().to_string()).collect::<Vec<_>>().join(", "));
+    Ok(())
+}
