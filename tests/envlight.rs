@@ -161,11 +161,188 @@ fn quadtree_refines_the_sun_and_leaves_black_and_uniform_regions_coarse() {
     for _ in 0..10_000 {
         let s = t.sample(&half, rng.next_2d()).unwrap();
         let (_, uv) = half.coords(s.dir);
-        // The lit quadrant, plus the one-texel border its bilinear filtering lights.
-        assert!(uv.x < 0.5 + 1.0 / 64.0 && uv.y < 0.5 + 1.0 / 32.0, "sampled the black part at {uv}");
+        // The lit quadrant, plus the one-texel border its bilinear filtering lights (x wraps around).
+        let in_x = uv.x < 0.5 + 1.0 / 64.0 || uv.x > 1.0 - 1.0 / 64.0;
+        assert!(in_x && uv.y < 0.5 + 1.0 / 32.0, "sampled the black part at {uv}");
     }
     // Deep in the black quadrants the tree stays coarse and the pdf is zero.
     let black = half.direction(0, Vec2::new(0.875, 0.875));
     assert!(t.leaf_texels(&half, black) >= 64, "{} texels", t.leaf_texels(&half, black));
     assert_eq!(t.pdf(&half, black), 0.0);
+    assert!(
+        QuadTree::build(&EnvMap::equirect(EnvImage { width: 8, height: 4, texels: vec![Vec3::ZERO; 32] })).is_none()
+    );
+}
 
+/// Pixels of the furnace image fully on the sphere and fully off it: the sphere's image radius is
+/// tan(asin(1/4)) / tan(20 deg) * 64 = 45.40 px.
+fn furnace_masks(w: u32) -> (Vec<usize>, Vec<usize>) {
+    let r = (0.25f64.asin().tan() / 20f64.to_radians().tan()) * w as f64 / 2.0;
+    let c = w as f64 / 2.0;
+    let (mut on, mut off) = (vec![], vec![]);
+    for y in 0..w {
+        for x in 0..w {
+            let d = ((x as f64 + 0.5 - c).powi(2) + (y as f64 + 0.5 - c).powi(2)).sqrt();
+            if d <= r - 0.75 {
+                on.push((y * w + x) as usize);
+            } else if d >= r + 0.75 {
+                off.push((y * w + x) as usize);
+            }
+        }
+    }
+    (on, off)
+}
+
+#[test]
+fn white_furnace_sphere_renders_its_albedo_and_the_sky_exactly_one() {
+    for integrator in ["envlight", "envlight(max_depth: 2)", "envlight(env_sampling: uniform)", "envlight(mis: false)"]
+    {
+        let img = render_file(
+            &scene_path("furnace.ron"),
+            Overrides { integrator: Some(integrator.into()), spp: Some(16), ..Default::default() },
+        );
+        let (on, off) = furnace_masks(img.width);
+        assert_eq!(on.len(), 6280, "covered-pixel count as in ../shared/refs/furnace.md");
+        let mean = on.iter().map(|&i| img.pixels[i].x as f64).sum::<f64>() / on.len() as f64;
+        assert!((mean - 0.8).abs() < 0.004, "{integrator}: sphere mean {mean} (exact 0.8)");
+        assert!(off.iter().all(|&i| img.pixels[i] == Vec3::ONE), "{integrator}: background must be exactly 1");
+    }
+}
+
+#[test]
+fn a_lambertian_plane_under_a_uniform_sky_receives_pi_l() {
+    // E = pi L, so L_out = rho L; the plane hides the lower hemisphere.
+    let scene = "(camera: (eye: (0, 5, 0), target: (0, 0, 0), up: (0, 0, -1), orthographic: 2, size: (16, 16)),
+        render: (integrator: envlight(max_depth: 2)),
+        materials: {\"m\": Lambert(albedo: (0.5, 0.25, 1))},
+        entities: [(shape: Plane(), material: \"m\"), (light: Environment(radiance: (2, 2, 2)))])";
+    let img = render_ron(scene, spp(64));
+    let m = img.mean();
+    assert!((m - Vec3::new(1.0, 0.5, 2.0)).abs().max_element() < 0.01, "mean {m}, expected rho L = (1, 0.5, 2)");
+}
+
+#[test]
+fn irradiance_from_an_environment_map_matches_quadrature() {
+    // A white Lambertian quad facing up under the Grace probe, tilted 15 degrees so its sky is off-axis:
+    // L_out = E / pi with E = sum of L(d) max(0, n.d) dw over a fine grid of directions. Each pixel is an
+    // independent estimate, so their spread gives the standard error of the image mean: the mean must lie within
+    // 4 standard errors of the quadrature (a confidence-interval test, not a fixed tolerance).
+    let map_path = data("envmaps/equirect/probulator_grace_256x128.hdr");
+    let scene = format!(
+        "(camera: (eye: (0, 5, 0), target: (0, 0, 0), up: (0, 0, -1), orthographic: 0.5, size: (16, 16)),
+          render: (integrator: envlight(max_depth: 2)),
+          materials: {{\"m\": Lambert(albedo: (1, 1, 1))}},
+          entities: [(shape: Quad(), material: \"m\", transform: [Rotate(axis: (1, 0, 0), degrees: -90)]),
+                     (light: Environment(map: \"{}\"), transform: [Rotate(axis: (1, 0, 1), degrees: 15)])])",
+        map_path.display()
+    );
+    let img = render_ron(&scene, spp(1024));
+    let mut app = app_from_ron(&scene, Overrides::default());
+    app.setup().unwrap();
+    let env = app.resources.scene.as_ref().unwrap().lights.environment.clone().unwrap();
+    let n = 1024;
+    let mut e = glam::DVec3::ZERO;
+    for i in 0..n {
+        for j in 0..2 * n {
+            let theta = (i as f64 + 0.5) / n as f64 * std::f64::consts::FRAC_PI_2;
+            let phi = (j as f64 + 0.5) / (2 * n) as f64 * std::f64::consts::TAU;
+            let d = Vec3A::new((theta.sin() * phi.cos()) as f32, theta.cos() as f32, (theta.sin() * phi.sin()) as f32);
+            let dw = theta.sin() * (std::f64::consts::FRAC_PI_2 / n as f64) * (std::f64::consts::TAU / (2 * n) as f64);
+            e += env.eval(d).as_dvec3() * theta.cos() * dw;
+        }
+    }
+    let expect = e / std::f64::consts::PI;
+    let px: Vec<glam::DVec3> = img.pixels.iter().map(|p| p.as_dvec3()).collect();
+    let mean = px.iter().sum::<glam::DVec3>() / px.len() as f64;
+    let var = px.iter().map(|p| (*p - mean) * (*p - mean)).sum::<glam::DVec3>() / (px.len() - 1) as f64;
+    let stderr = (var / px.len() as f64).powf(0.5);
+    for c in 0..3 {
+        assert!(stderr[c] < 0.01 * expect[c], "channel {c}: standard error {} too large for a useful test", stderr[c]);
+        assert!(
+            (mean[c] - expect[c]).abs() < 4.0 * stderr[c],
+            "channel {c}: rendered {} +- {}, quadrature {}",
+            mean[c],
+            stderr[c],
+            expect[c]
+        );
+    }
+}
+
+#[test]
+fn a_closed_emitting_diffuse_enclosure_reaches_le_over_one_minus_rho() {
+    // Inside a sphere that both emits Le and reflects diffusely with albedo rho, radiance is the geometric series
+    // Le (1 + rho + rho^2 + ...) = Le / (1 - rho): tests multi-bounce paths, Russian roulette and MIS together.
+    let scene = "(camera: (size: (8, 8), eye: (0, 0, 0.5), target: (0, 0, 0)),
+        render: (integrator: envlight),
+        materials: {\"wall\": Lambert(albedo: (0.5, 0.5, 0.5))},
+        entities: [(shape: Sphere(radius: 2), material: \"wall\", light: Area(radiance: (1, 1, 1), two_sided: true))])";
+    let img = render_ron(scene, spp(256));
+    let m = img.mean().x;
+    assert!((m - 2.0).abs() < 0.02, "mean {m}, expected Le / (1 - rho) = 2");
+}
+
+#[test]
+fn glass_and_mirror_under_a_uniform_sky_conserve_energy() {
+    let scene = "(camera: (eye: (0, 0, 4), fov: 35, size: (24, 24)),
+        render: (integrator: envlight),
+        materials: {\"glass\": Glass(ior: 1.5), \"mirror\": Mirror()},
+        entities: [(shape: Sphere(center: (-0.6, 0, 0), radius: 0.5), material: \"glass\"),
+                   (shape: Sphere(center: (0.6, 0, 0), radius: 0.5), material: \"mirror\"),
+                   (light: Environment(radiance: (1, 1, 1)))])";
+    let img = render_ron(scene, spp(64));
+    for p in &img.pixels {
+        assert!((p.x - 1.0).abs() < 0.05, "pixel {p}");
+    }
+    assert!((img.mean().x - 1.0).abs() < 2e-3, "mean {}", img.mean().x);
+}
+
+#[test]
+fn cornell_box_matches_mitsubas_path_traced_reference_and_converges() {
+    let reference = read_exr(&refs("cornell.exr")).unwrap();
+    let mut rmse = vec![];
+    for n in [4, 16, 64] {
+        let img = render_file(&scene_path("cornell_box.ron"), spp(n));
+        let m = compare(&img, &reference).unwrap();
+        for c in 0..3 {
+            let rel = (m.mean_test[c] - m.mean_reference[c]).abs() / m.mean_reference[c];
+            assert!(
+                rel < 0.01,
+                "{n} spp: channel {c} mean {} vs {} ({:.2}%)",
+                m.mean_test[c],
+                m.mean_reference[c],
+                100.0 * rel
+            );
+        }
+        eprintln!("cornell_box {n} spp: RMSE {:.5}", m.rmse);
+        rmse.push(m.rmse);
+    }
+    // Unbiased Monte Carlo: each 4x in samples divides the RMSE by at least ~2 (1/sqrt(spp)); stratification of the
+    // pixel and first-bounce samples makes it a little faster, but never like 1/spp (that would mean a bias
+    // vanishing, not noise averaging out).
+    for k in 0..2 {
+        let ratio = rmse[k] / rmse[k + 1];
+        assert!((1.6..3.5).contains(&ratio), "RMSE ratio {ratio:.2} between {:?}", &rmse);
+    }
+}
+
+#[test]
+fn bad_environment_light_settings_are_rejected() {
+    let dir = scratch("envsettings");
+    let bad = [
+        ("(camera: (), entities: [(light: Environment(map: \"missing.hdr\"))])", "missing.hdr"),
+        ("(camera: (), entities: [(light: Environment(scale: -1))])", "scale"),
+        ("(camera: (), entities: [(light: Environment()), (light: Environment())])", "only one environment"),
+        ("(camera: (), entities: [(shape: Sphere(), light: Environment())])", "cannot have a shape"),
+        ("(camera: (), render: (integrator: envlight(max_depth: 0)))", "max_depth"),
+        ("(camera: (), render: (integrator: envlight(env_sampling: magic)))", "magic"),
+    ];
+    for (text, needle) in bad {
+        let path = dir.join("s.ron");
+        std::fs::write(&path, text).unwrap();
+        let o =
+            crate::common::prism(&["render", path.to_str().unwrap(), "-o", dir.join("o.png").to_str().unwrap(), "-q"]);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(!o.status.success() && err.starts_with("error:") && err.contains(needle), "{text}: {err}");
+        assert!(!err.contains("panicked"));
+    }
+}
