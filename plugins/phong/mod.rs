@@ -5,7 +5,9 @@
 //! light with shadow rays: point lights (I cos / r^2), directional lights (E cos) and area lights with
 //! `light_samples` stratified samples per shading point, each weighted by its pdf, so irradiance and soft shadows
 //! are physically right. Mirrors (`reflective`) and smooth dielectrics (`transparent`, Fresnel-weighted reflection
-//! and refraction, total internal reflection) recurse up to `max_depth` bounces. With `ambient` 0 and Lambert
+//! and refraction, total internal reflection) recurse up to `max_depth` bounces. Rays that leave the scene return
+//! the environment light's radiance (or the background); the environment is not sampled for direct lighting (the
+//! `envlight` integrator does that). With `ambient` 0 and Lambert
 //! materials this is exactly the direct-lighting estimator (tested against Mitsuba 3 in `tests/scenes.rs`).
 //!
 //! Parameters: `phong(max_depth: 5, light_samples: 4)`.
