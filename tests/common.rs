@@ -120,3 +120,27 @@ pub fn chi_square(observed: &[f64], expected: &[f64]) -> (f64, usize, f64) {
 pub fn rel(a: f64, b: f64) -> f64 {
     (a - b).abs() / b.abs().max(1e-12)
 }
+
+/// Render a shipped scene at each sample count, assert every channel's image mean is within `mean_tol` (relative)
+/// of the reference's, and return the RMSE at each count.
+pub fn rmse_against_reference(scene: &str, reference: &str, spps: &[u32], mean_tol: f64) -> Vec<f64> {
+    let reference = prism::io::read_exr(&refs(reference)).unwrap();
+    let mut rmse = vec![];
+    for &n in spps {
+        let img = render_file(&scene_path(scene), spp(n));
+        let m = prism::compare::compare(&img, &reference).unwrap();
+        for c in 0..3 {
+            let rel = (m.mean_test[c] - m.mean_reference[c]).abs() / m.mean_reference[c];
+            assert!(
+                rel < mean_tol,
+                "{scene} at {n} spp: channel {c} mean {} vs reference {} ({:.2}%)",
+                m.mean_test[c],
+                m.mean_reference[c],
+                100.0 * rel
+            );
+        }
+        eprintln!("{scene} {n} spp: RMSE {:.5}", m.rmse);
+        rmse.push(m.rmse);
+    }
+    rmse
+}

@@ -3,11 +3,9 @@
 //! white furnace, irradiance pi L under a uniform sky, an environment map's irradiance by quadrature, a closed
 //! emitting enclosure (L = Le / (1 - rho)), energy conservation through glass, and Mitsuba's Cornell box.
 
-use crate::common::{app_from_ron, chi_square, data, refs, render_file, render_ron, scene_path, scratch, spp};
+use crate::common::{app_from_ron, chi_square, data, render_file, render_ron, scene_path, scratch, spp};
 use glam::{Vec2, Vec3, Vec3A};
-use prism::compare::compare;
 use prism::envmap::{EnvImage, EnvMap};
-use prism::io::read_exr;
 use prism::plugins::envlight::{Piecewise2D, QuadTree};
 use prism::sampling::Rng;
 use prism::settings::Overrides;
@@ -298,24 +296,7 @@ fn glass_and_mirror_under_a_uniform_sky_conserve_energy() {
 
 #[test]
 fn cornell_box_matches_mitsubas_path_traced_reference_and_converges() {
-    let reference = read_exr(&refs("cornell.exr")).unwrap();
-    let mut rmse = vec![];
-    for n in [4, 16, 64] {
-        let img = render_file(&scene_path("cornell_box.ron"), spp(n));
-        let m = compare(&img, &reference).unwrap();
-        for c in 0..3 {
-            let rel = (m.mean_test[c] - m.mean_reference[c]).abs() / m.mean_reference[c];
-            assert!(
-                rel < 0.01,
-                "{n} spp: channel {c} mean {} vs {} ({:.2}%)",
-                m.mean_test[c],
-                m.mean_reference[c],
-                100.0 * rel
-            );
-        }
-        eprintln!("cornell_box {n} spp: RMSE {:.5}", m.rmse);
-        rmse.push(m.rmse);
-    }
+    let rmse = crate::common::rmse_against_reference("cornell_box.ron", "cornell.exr", &[4, 16, 64], 0.01);
     // Unbiased Monte Carlo: each 4x in samples divides the RMSE by at least ~2 (1/sqrt(spp)); stratification of the
     // pixel and first-bounce samples makes it a little faster, but never like 1/spp (that would mean a bias
     // vanishing, not noise averaging out).

@@ -1,32 +1,13 @@
 //! The shipped scenes: the Cornell box reproduces the Mitsuba reference's geometry exactly, direct lighting
 //! converges to Mitsuba's direct-only reference, every scene renders, nested transforms compose.
 
-use crate::common::{app_from_file, refs, render_file, scene_path, spp};
+use crate::common::{app_from_file, render_file, scene_path};
 use glam::Vec3A;
-use prism::compare::compare;
-use prism::io::read_exr;
 use prism::settings::Overrides;
 
 #[test]
 fn cornell_direct_matches_mitsubas_direct_lighting_reference_and_converges() {
-    let reference = read_exr(&refs("direct_only.exr")).unwrap();
-    let mut rmse = vec![];
-    for n in [4, 16, 64] {
-        let img = render_file(&scene_path("cornell_direct.ron"), spp(n));
-        let m = compare(&img, &reference).unwrap();
-        for c in 0..3 {
-            let rel = (m.mean_test[c] - m.mean_reference[c]).abs() / m.mean_reference[c];
-            assert!(
-                rel < 0.02,
-                "{n} spp: channel {c} mean {} vs reference {} ({:.2}%)",
-                m.mean_test[c],
-                m.mean_reference[c],
-                100.0 * rel
-            );
-        }
-        rmse.push(m.rmse);
-        eprintln!("cornell_direct {n} spp: RMSE {:.5}", m.rmse);
-    }
+    let rmse = crate::common::rmse_against_reference("cornell_direct.ron", "direct_only.exr", &[4, 16, 64], 0.02);
     // Unbiased Monte Carlo: 4x the samples should halve the RMSE; require at least a 1.5x drop each time.
     assert!(rmse[1] < rmse[0] / 1.5 && rmse[2] < rmse[1] / 1.5, "RMSE does not fall with samples: {rmse:?}");
 }
