@@ -24,17 +24,21 @@ pub enum Budget {
 pub struct ConvergencePoint {
     pub integrator: String,
     pub spp: u64,
+    /// Wall time of the render passes.
     pub seconds: f64,
+    /// CPU time of the render passes (all threads), when the platform reports it.
+    pub cpu_seconds: Option<f64>,
     pub rmse: f64,
     pub relmse: f64,
     pub mae: f64,
 }
 
-/// A peer's curve: (spp, seconds, rmse) points.
+/// A peer's curve: (spp, seconds, rmse) points, and CPU seconds per point when the CSV has them.
 #[derive(Clone, Debug, Default)]
 pub struct PeerCurve {
     pub name: String,
     pub points: Vec<(u64, f64, f64)>,
+    pub cpu_seconds: Vec<Option<f64>>,
 }
 
 /// Render `scene` once per (integrator, budget) and measure against `reference`.
@@ -72,6 +76,7 @@ pub fn measure(
                 integrator: spec.clone(),
                 spp: app.resources.progress.spp_done,
                 seconds: app.resources.progress.elapsed.as_secs_f64(),
+                cpu_seconds: app.resources.progress.cpu.map(|c| c.as_secs_f64()),
                 rmse: m.rmse,
                 relmse: m.relmse,
                 mae: m.mae,
@@ -92,6 +97,7 @@ pub fn read_peer(path: &Path, scene: &str, variant: &str) -> Result<PeerCurve> {
         header.iter().position(|h| *h == name).ok_or_else(|| PrismError::format(path, format!("no `{name}` column")))
     };
     let (cs, cn, ct, ce, cv) = (col("scene")?, col("spp")?, col("seconds")?, col("rmse")?, col("variant")?);
+    let ccpu = header.iter().position(|h| *h == "cpu_seconds");
     let mut points = vec![];
     for (i, line) in lines.enumerate() {
         let f: Vec<&str> = line.split(',').map(str::trim).collect();
@@ -101,13 +107,15 @@ pub fn read_peer(path: &Path, scene: &str, variant: &str) -> Result<PeerCurve> {
         let num = |k: usize| {
             f[k].parse::<f64>().map_err(|_| PrismError::format(path, format!("line {}: bad number `{}`", i + 2, f[k])))
         };
-        points.push((num(cn)? as u64, num(ct)?, num(ce)?));
+        let cpu = ccpu.and_then(|k| f.get(k)).and_then(|v| v.parse::<f64>().ok());
+        points.push(((num(cn)? as u64, num(ct)?, num(ce)?), cpu));
     }
     if points.is_empty() {
         return Err(PrismError::format(path, format!("no rows for scene `{scene}` and variant `{variant}`")));
     }
-    points.sort_by(|a, b| a.1.total_cmp(&b.1));
-    Ok(PeerCurve { name: format!("peer {variant}"), points })
+    points.sort_by(|a, b| a.0.1.total_cmp(&b.0.1));
+    let (points, cpu_seconds) = points.into_iter().unzip();
+    Ok(PeerCurve { name: format!("peer {variant}"), points, cpu_seconds })
 }
 
 /// Time at which a curve of (seconds, rmse) points reaches `target` RMSE, interpolating linearly in log-log

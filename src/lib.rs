@@ -17,6 +17,7 @@ pub mod cli;
 pub mod compare;
 pub mod components;
 pub mod converge;
+pub mod cpu_time;
 pub mod envmap;
 pub mod error;
 pub mod film;

@@ -45,7 +45,10 @@ pub struct Progress {
     /// Samples per pixel merged so far (for complete passes).
     pub spp_done: u64,
     pub started: Option<Instant>,
+    /// Wall time spent in the Render stage.
     pub elapsed: Duration,
+    /// CPU time (all threads) spent in the Render stage, where the platform reports it.
+    pub cpu: Option<Duration>,
     /// Set when no further pass should run.
     pub finished: bool,
     /// Set when the render was interrupted (the film holds what was done).
@@ -61,6 +64,7 @@ impl Default for Progress {
             spp_done: 0,
             started: None,
             elapsed: Duration::ZERO,
+            cpu: Some(Duration::ZERO),
             finished: false,
             interrupted: false,
             setup: Duration::ZERO,

@@ -64,10 +64,11 @@ pub fn run(a: ConvergeArgs) -> anyhow::Result<()> {
         builder = builder.num_threads(n);
     }
     let pool = builder.build().map_err(|e| PrismError::invalid(format!("cannot start threads: {e}")))?;
-    eprintln!("{:<40} {:>6} {:>9} {:>10}", "integrator", "spp", "seconds", "RMSE");
+    eprintln!("{:<40} {:>6} {:>9} {:>9} {:>10}", "integrator", "spp", "seconds", "cpu s", "RMSE");
     let points = pool.install(|| {
         measure(&a.scene, &reference, &a.integrators, &budgets, &base, |p| {
-            eprintln!("{:<40} {:>6} {:>9.3} {:>10.5}", p.integrator, p.spp, p.seconds, p.rmse);
+            let cpu = p.cpu_seconds.map_or("-".into(), |c| format!("{c:.3}"));
+            eprintln!("{:<40} {:>6} {:>9.3} {:>9} {:>10.5}", p.integrator, p.spp, p.seconds, cpu, p.rmse);
         })
     })?;
     let title = a.scene.file_stem().map(|s| s.to_string_lossy().to_string()).unwrap_or_default();
@@ -76,16 +77,27 @@ pub fn run(a: ConvergeArgs) -> anyhow::Result<()> {
         // Equal-error time: when does each curve reach the peer's lowest error?
         let target = peer.points.iter().map(|p| p.2).fold(f64::INFINITY, f64::min);
         let peer_t = time_to_error(&peer.points.iter().map(|p| (p.1, p.2)).collect::<Vec<_>>(), target);
+        let peer_cpu: Option<Vec<(f64, f64)>> =
+            peer.points.iter().zip(&peer.cpu_seconds).map(|(p, c)| c.map(|c| (c, p.2))).collect();
+        let peer_cpu_t = peer_cpu.and_then(|c| time_to_error(&c, target));
         for spec in &a.integrators {
-            let ours: Vec<(f64, f64)> =
-                points.iter().filter(|p| &p.integrator == spec).map(|p| (p.seconds, p.rmse)).collect();
-            match (time_to_error(&ours, target), peer_t) {
+            let mine: Vec<_> = points.iter().filter(|p| &p.integrator == spec).collect();
+            let wall: Vec<(f64, f64)> = mine.iter().map(|p| (p.seconds, p.rmse)).collect();
+            match (time_to_error(&wall, target), peer_t) {
                 (Some(t), Some(pt)) => eprintln!(
-                    "equal error RMSE {target:.4}: {spec} {t:.2} s vs {} {pt:.2} s ({:.2}x)",
+                    "equal error RMSE {target:.4}: {spec} {t:.2} s vs {} {pt:.2} s wall ({:.2}x)",
                     peer.name,
                     pt / t
                 ),
                 _ => eprintln!("equal error RMSE {target:.4}: {spec} did not reach it within the budgets"),
+            }
+            let cpu: Option<Vec<(f64, f64)>> = mine.iter().map(|p| p.cpu_seconds.map(|c| (c, p.rmse))).collect();
+            if let (Some(t), Some(pt)) = (cpu.and_then(|c| time_to_error(&c, target)), peer_cpu_t) {
+                eprintln!(
+                    "equal error RMSE {target:.4}: {spec} {t:.2} s vs {} {pt:.2} s CPU ({:.2}x)",
+                    peer.name,
+                    pt / t
+                );
             }
         }
     }

@@ -92,8 +92,13 @@ pub fn render_pass_system(_world: &mut World, res: &mut Resources) -> Result<()>
     let scene = res.scene.as_ref().ok_or_else(|| PrismError::invalid("no scene: the BuildAccel stage did not run"))?;
     let integrator =
         res.integrator.as_mut().ok_or_else(|| PrismError::invalid("no integrator: the Prepare stage did not run"))?;
+    let cpu0 = crate::cpu_time::process_cpu_time();
     let out = integrator.render_pass(scene, &info, &res.cancel);
     res.progress.elapsed = started.elapsed();
+    res.progress.cpu = match (res.progress.cpu, cpu0, crate::cpu_time::process_cpu_time()) {
+        (Some(acc), Some(a), Some(b)) => Some(acc + b.saturating_sub(a)),
+        _ => None,
+    };
     res.pass_output = Some(out);
     Ok(())
 }
