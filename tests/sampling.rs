@@ -434,3 +434,33 @@ fn dielectric_sampling_reflects_with_the_fresnel_probability() {
         assert!((got - f).abs() < 5.0 * sigma + 1e-4, "cos {cos}: reflected {got}, Fresnel {f}");
     }
 }
+
+#[test]
+fn scrambled_sobol_points_are_uniform_progressive_and_stratified() {
+    use prism::sampling::sobol_owen_2d;
+    // Every prefix of 2^k points of one pixel's sequence is a (0, k, 2)-net: one point in each of the 2^k elementary
+    // intervals of every shape (here 2^a x 2^(k-a) cells).
+    for seed in [1u32, 77, 0xdead_beef] {
+        for k in [2u32, 4, 6, 8] {
+            let n = 1u32 << k;
+            let pts: Vec<Vec2> = (0..n).map(|i| sobol_owen_2d(i, seed)).collect();
+            for a in 0..=k {
+                let (nx, ny) = (1u32 << a, 1u32 << (k - a));
+                let mut seen = vec![0u32; n as usize];
+                for p in &pts {
+                    seen[((p.y * ny as f32) as u32 * nx + (p.x * nx as f32) as u32) as usize] += 1;
+                }
+                assert!(seen.iter().all(|&c| c == 1), "seed {seed}, 2^{k} points, {nx}x{ny} cells: {seen:?}");
+            }
+        }
+    }
+    // Across pixels (seeds) each point is uniform: chi-square of point 5 of many sequences on a 16x16 grid.
+    let n = 100_000;
+    let mut obs = vec![0.0; 256];
+    for seed in 0..n {
+        let p = sobol_owen_2d(5, seed * 2_654_435_761);
+        obs[(p.y * 16.0) as usize * 16 + (p.x * 16.0) as usize] += 1.0;
+    }
+    let (stat, df, p) = chi_square(&obs, &vec![n as f64 / 256.0; 256]);
+    assert!(p > 1e-3, "chi-square {stat:.1} ({df} dof), p = {p:.2e}");
+}

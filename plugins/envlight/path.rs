@@ -3,7 +3,8 @@
 //! BSDF sampling (cosine, Phong lobe, mirror, Fresnel dielectric), multiple importance sampling with the power
 //! heuristic, and Russian roulette. `max_depth` counts path segments as Mitsuba does (the camera ray is segment 1):
 //! 1 shows emitters only, 2 is direct lighting (the single-bounce environment lighting of the seed), -1 is
-//! unlimited. The first vertex's light and BSDF samples are stratified across the pixel's samples.
+//! unlimited. The first vertex's light and BSDF samples are stratified across the pixel's samples (Owen-scrambled
+//! Sobol points, see `PixelSample`).
 
 use super::EnvlightParams;
 use super::env_sampling::EnvSampling;

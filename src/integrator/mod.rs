@@ -73,28 +73,33 @@ pub trait Integrator: Send + Sync {
     fn render_pass(&mut self, scene: &Scene, pass: &PassInfo, cancel: &AtomicBool) -> PassOutput;
 }
 
-/// Which sample of its pixel a camera ray is: sample `index` of `count` (over the whole render when the sample
-/// count is known, otherwise within the pass), with a per-pixel `key`. Integrators draw stratified 2D points for
-/// their first, most important dimensions from it: each dimension is stratified over the pixel's samples on its
-/// own (padded, with a different permutation per dimension).
+/// Which sample of its pixel a camera ray is: sample `index` over the whole render (of `count` when the total is
+/// known), with a per-pixel `key`. Integrators draw stratified 2D points for their first, most important
+/// dimensions from it: Owen-scrambled Sobol points, a progressive (0,2)-sequence per pixel and dimension (every
+/// prefix of 2^k samples is stratified, whatever the total), with an independent scramble per dimension.
 #[derive(Clone, Copy, Debug)]
 pub struct PixelSample {
     pub index: u32,
     pub count: u32,
     pub key: u32,
+    /// False for a lone sample outside a pixel's sequence: points then come from the random generator.
+    pub stratified: bool,
 }
 
 impl PixelSample {
-    /// A lone sample (no stratification).
+    /// A lone sample (no stratification): `stratified_2d` returns independent random points.
     pub fn independent() -> Self {
-        PixelSample { index: 0, count: 1, key: 0 }
+        PixelSample { index: 0, count: 1, key: 0, stratified: false }
     }
 
-    /// The stratified 2D point of dimension `dim` for this sample.
+    /// The stratified 2D point of dimension `dim` for this sample (from `rng` for an independent sample).
     #[inline]
     pub fn stratified_2d(&self, dim: u32, rng: &mut Rng) -> glam::Vec2 {
+        if !self.stratified {
+            return rng.next_2d();
+        }
         let key = self.key ^ (dim.wrapping_add(1)).wrapping_mul(0x9E37_79B9);
-        crate::sampling::stratified_2d(self.index, self.count, key, rng)
+        crate::sampling::sobol_owen_2d(self.index, key)
     }
 }
 

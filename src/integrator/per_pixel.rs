@@ -35,17 +35,24 @@ impl<T: PixelIntegrator> PerPixel<T> {
             for x in tile.x0..tile.x0 + tile.w {
                 let pixel = y as u64 * s.width as u64 + x as u64;
                 let mut rng = Rng::for_pixel(s.seed, pixel, pass.index as u64);
-                // With a known total, samples are stratified over the whole render (the pixel's key is the same in
-                // every pass, each pass takes the next sample indices); otherwise within the pass.
+                // With a known total, pixel positions are stratified over the whole render (the pixel's key is the
+                // same in every pass, each pass takes the next sample indices); otherwise within the pass. The
+                // integrator's own dimensions always continue one progressive sequence per pixel.
+                let pixel_key = hash_u64(s.seed ^ hash_u64(pixel)) as u32;
                 let (base, total, key) = match s.spp {
-                    Some(n) => (pass.first_sample as u32, n, hash_u64(s.seed ^ hash_u64(pixel)) as u32),
+                    Some(n) => (pass.first_sample as u32, n, pixel_key),
                     None => (0, pass.spp, rng.next_u32()),
                 };
                 let mut sum = Vec3::ZERO;
                 for i in 0..pass.spp {
                     let off = s.pattern.offset(base + i, total, key, &mut rng);
                     let ray = scene.camera.generate_ray(Vec2::new(x as f32 + off.x, y as f32 + off.y));
-                    let sample = PixelSample { index: base + i, count: total, key: key.rotate_left(16) ^ 0x5bd1_e995 };
+                    let sample = PixelSample {
+                        index: pass.first_sample as u32 + i,
+                        count: s.spp.unwrap_or(0),
+                        key: pixel_key.rotate_left(16) ^ 0x5bd1_e995,
+                        stratified: true,
+                    };
                     let l = self.0.radiance_stratified(scene, ray, &sample, &mut rng);
                     if l.is_finite() {
                         sum += l;

@@ -5,11 +5,13 @@
 mod pattern;
 mod permute;
 mod rng;
+mod sobol;
 pub mod warp;
 
 pub use pattern::PixelPattern;
 pub use permute::permute;
 pub use rng::{Rng, hash_u64};
+pub use sobol::{nested_uniform_scramble, sobol_owen_2d};
 
 /// Stratified 2D points for `count` samples: the unit square is cut into `n x n` strata with `n = ceil(sqrt(count))`,
 /// sample `i` takes the `i`-th stratum of a random permutation and jitters inside it. Every sample is uniform on the

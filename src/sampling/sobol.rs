@@ -1,0 +1,55 @@
+//! Owen-scrambled Sobol points in 2D (Burley 2020, "Practical Hash-based Owen Scrambling"): the first two Sobol
+//! dimensions form a (0,2)-sequence, so every prefix of 2^k points puts exactly one point in each of 2^k equal
+//! elementary intervals in any aspect ratio, and the sequence is progressive: no total count is needed. A hash-based
+//! nested uniform scramble per (pixel, dimension) randomises it, so each point alone is uniform (unbiased), and
+//! shuffling the index decorrelates dimensions.
+
+#[inline]
+fn laine_karras(mut x: u32, seed: u32) -> u32 {
+    x = x.wrapping_add(seed);
+    x ^= x.wrapping_mul(0x6c50b47c);
+    x ^= x.wrapping_mul(0xb82f1e52);
+    x ^= x.wrapping_mul(0xc7afe638);
+    x ^= x.wrapping_mul(0x8d22f6e6);
+    x
+}
+
+/// Owen (nested uniform) scramble of a 32-bit fixed-point value.
+#[inline]
+pub fn nested_uniform_scramble(x: u32, seed: u32) -> u32 {
+    laine_karras(x.reverse_bits(), seed).reverse_bits()
+}
+
+/// The second Sobol dimension of `i` (as 32-bit fixed point).
+#[inline]
+fn sobol_dim1(mut i: u32) -> u32 {
+    let mut v = 1u32 << 31;
+    let mut r = 0;
+    while i != 0 {
+        if i & 1 != 0 {
+            r ^= v;
+        }
+        i >>= 1;
+        v ^= v >> 1;
+    }
+    r
+}
+
+#[inline]
+fn hash32(mut x: u32) -> u32 {
+    x ^= x >> 16;
+    x = x.wrapping_mul(0x7feb352d);
+    x ^= x >> 15;
+    x = x.wrapping_mul(0x846ca68b);
+    x ^ (x >> 16)
+}
+
+/// Point `index` of the scrambled 2D Sobol sequence selected by `seed`, in [0,1)^2.
+#[inline]
+pub fn sobol_owen_2d(index: u32, seed: u32) -> glam::Vec2 {
+    let i = nested_uniform_scramble(index, hash32(seed));
+    let x = nested_uniform_scramble(i.reverse_bits(), hash32(seed ^ 0x9e37_79b9));
+    let y = nested_uniform_scramble(sobol_dim1(i), hash32(seed ^ 0x85eb_ca6b));
+    const S: f32 = 1.0 / 4_294_967_296.0;
+    glam::Vec2::new((x >> 8) as f32 * (S * 256.0), (y >> 8) as f32 * (S * 256.0))
+}
