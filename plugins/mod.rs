@@ -2,6 +2,7 @@
 //! built in) but use only the public API an external crate could use: `Plugin`, `App::register_integrator`,
 //! `PixelIntegrator`/`PerPixel` and the render `Scene`.
 
+pub mod debug;
 pub mod phong;
 
 use crate::app::App;
@@ -9,4 +10,5 @@ use crate::app::App;
 /// Add every built-in integrator plugin.
 pub fn add_builtin_plugins(app: &mut App) {
     app.add_plugin(phong::PhongPlugin);
+    app.add_plugin(debug::DebugPlugin);
 }

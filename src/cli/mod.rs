@@ -1,6 +1,8 @@
-//! The `prism` command line (clap), per DESIGN section 3: `render` and `compare`.
+//! The `prism` command line (clap), per DESIGN section 3: `render`, `compare`, `bench` and `convert`.
 
+mod bench_cmd;
 mod compare_cmd;
+mod convert_cmd;
 mod render_cmd;
 
 use clap::{Parser, Subcommand};
@@ -15,8 +17,12 @@ pub struct Cli {
 
 #[derive(Subcommand, Debug)]
 pub enum Command {
-    /// Render a scene (.ron or .obj) to PNG and/or EXR.
+    /// Render a scene (.ron, .obj or 6.837 .txt) to PNG and/or EXR.
     Render(render_cmd::RenderArgs),
+    /// Benchmark accelerators on scenes: build time, memory, nodes, Mrays/s (table and chart).
+    Bench(bench_cmd::BenchArgs),
+    /// Convert a 6.837 scene (.txt) to a Prism RON scene.
+    Convert(convert_cmd::ConvertArgs),
     /// Compare an image with a reference: RMSE, relMSE, mean absolute error.
     Compare {
         /// The image to test (.exr or .png).
@@ -33,6 +39,8 @@ pub enum Command {
 pub fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Command::Render(args) => render_cmd::run(args),
+        Command::Bench(args) => bench_cmd::run(args),
+        Command::Convert(args) => convert_cmd::run(args),
         Command::Compare { test, reference, json } => compare_cmd::run(&test, &reference, json),
     }
 }

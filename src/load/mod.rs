@@ -1,7 +1,8 @@
-//! The Load stage: read the scene (RON, or a bare OBJ mesh), spawn its entities, and resolve the render settings
-//! from the file and the command-line overrides.
+//! The Load stage: read the scene (RON, a bare OBJ mesh, or a 6.837 `.txt` scene), spawn its entities, and resolve
+//! the render settings from the file and the command-line overrides.
 
 pub mod desc;
+pub mod mit6837;
 mod obj;
 mod ron_scene;
 mod spawn;
@@ -55,11 +56,19 @@ fn load_file(path: &Path, world: &mut World, res: &mut Resources) -> Result<File
             spawn_scene(&desc, &text, path, base, world, res)
         }
         "obj" => load_obj_scene(path, world, res),
-        "" => {
-            Err(PrismError::invalid(format!("{}: scene file has no extension (expected .ron or .obj)", path.display())))
+        "txt" => {
+            // A 6.837 scene: spawned through its RON equivalent (what `prism convert` writes).
+            let base = path.parent().unwrap_or(Path::new("."));
+            let text = mit6837::convert_file(path, base)?;
+            let desc = parse_scene(&text, path)?;
+            spawn_scene(&desc, &text, path, base, world, res)
         }
+        "" => Err(PrismError::invalid(format!(
+            "{}: scene file has no extension (expected .ron, .obj or a 6.837 .txt)",
+            path.display()
+        ))),
         other => Err(PrismError::invalid(format!(
-            "{}: unsupported scene format '.{other}' (expected .ron or .obj)",
+            "{}: unsupported scene format '.{other}' (expected .ron, .obj or a 6.837 .txt)",
             path.display()
         ))),
     }
@@ -117,6 +126,15 @@ fn load_obj_scene(path: &Path, world: &mut World, res: &mut Resources) -> Result
     Ok(FileSettings::default())
 }
 
+/// `name` or `name(params)` from the command line.
+fn cli_plugin_config(s: &str) -> PluginConfig {
+    let s = s.trim();
+    match s.find('(') {
+        Some(i) => PluginConfig { name: s[..i].trim().to_string(), params: Some(s[i..].to_string()), origin: None },
+        None => PluginConfig::named(s),
+    }
+}
+
 /// Merge file settings and overrides into `res.settings`; apply `--size` to the camera.
 fn resolve_settings(world: &mut World, res: &mut Resources, f: FileSettings) -> Result<()> {
     let o = res.overrides.clone();
@@ -131,9 +149,10 @@ fn resolve_settings(world: &mut World, res: &mut Resources, f: FileSettings) -> 
     }
     let (width, height) = (cam.width, cam.height);
     let d = RenderSettings::default();
-    let integrator = match (&o.integrator, f.integrator) {
-        (Some(name), Some(cfg)) if *name == cfg.name => cfg,
-        (Some(name), _) => PluginConfig::named(name.clone()),
+    // `--integrator name` keeps the scene's parameters for that plugin; `--integrator 'name(params)'` sets them.
+    let integrator = match (o.integrator.as_deref().map(cli_plugin_config), f.integrator) {
+        (Some(cli), Some(cfg)) if cli.params.is_none() && cli.name == cfg.name => cfg,
+        (Some(cli), _) => cli,
         (None, Some(cfg)) => cfg,
         (None, None) => d.integrator.clone(),
     };

@@ -9,10 +9,10 @@ use super::transform::compose;
 use crate::app::Resources;
 use crate::components::{Camera, Light, MaterialId, Name, Parent, Projection, Shape, Transform};
 use crate::error::{PrismError, Result};
-use crate::material::Material;
+use crate::material::{Material, Shading};
 use crate::mesh::MeshData;
 use crate::sampling::PixelPattern;
-use crate::settings::{AccelKind, PluginConfig};
+use crate::settings::{AccelKind, GridResolution, PluginConfig};
 use glam::{Vec2, Vec3};
 use hecs::{Entity, EntityBuilder, World};
 use std::collections::HashMap;
@@ -95,16 +95,31 @@ pub fn spawn_scene(
     let r = &desc.render;
     Ok(FileSettings {
         integrator: r.integrator.map(|raw| plugin_config(raw, text, file)).transpose()?,
-        accel: r.accel.map(|a| match a {
-            AccelDesc::Bvh => AccelKind::Bvh,
-            AccelDesc::Brute => AccelKind::Brute,
-        }),
+        accel: accel_kind(r.accel, r.grid, &ctx)?,
         spp: r.spp,
         passes: r.passes,
         pattern: r.pattern,
         seed: r.seed,
         time: r.time,
         exposure: r.exposure,
+    })
+}
+
+/// The accelerator a scene's `render: (accel: ..., grid: ...)` asks for; `grid` alone implies the grid.
+fn accel_kind(accel: Option<AccelDesc>, grid: Option<[u32; 3]>, ctx: &str) -> Result<Option<AccelKind>> {
+    let resolution = grid.map_or(GridResolution::Auto, GridResolution::Fixed);
+    Ok(match (accel, grid) {
+        (None, None) => None,
+        (None | Some(AccelDesc::Grid), _) => Some(AccelKind::Grid(resolution)),
+        (Some(a), Some(_)) => {
+            return Err(PrismError::scene(
+                ctx,
+                format!("render: `grid` resolution given with accel {a:?}; use accel: grid"),
+            ));
+        }
+        (Some(AccelDesc::Bvh), None) => Some(AccelKind::Bvh),
+        (Some(AccelDesc::Kdtree), None) => Some(AccelKind::KdTree),
+        (Some(AccelDesc::Brute), None) => Some(AccelKind::Brute),
     })
 }
 
@@ -159,6 +174,25 @@ impl Spawner<'_> {
                     transparent: color(*transparent, "transparent", &ctx)?,
                     ior: check_ior(*ior, &ctx)?,
                     two_sided: *two_sided,
+                    shading: Shading::Physical,
+                }
+            }
+            MaterialDesc::Mit6837 { diffuse, specular, exponent, reflective, transparent, ior, two_sided } => {
+                if !(exponent.is_finite() && *exponent >= 0.0) {
+                    return Err(PrismError::scene(&ctx, format!("exponent must be >= 0, got {exponent}")));
+                }
+                let diffuse = color(*diffuse, "diffuse", &ctx)?;
+                Material {
+                    name: name.to_string(),
+                    ambient: diffuse,
+                    diffuse,
+                    specular: color(*specular, "specular", &ctx)?,
+                    exponent: *exponent,
+                    reflective: color(*reflective, "reflective", &ctx)?,
+                    transparent: color(*transparent, "transparent", &ctx)?,
+                    ior: check_ior(*ior, &ctx)?,
+                    two_sided: *two_sided,
+                    shading: Shading::Mit6837,
                 }
             }
             MaterialDesc::Mirror { reflectance } => {
@@ -223,10 +257,17 @@ impl Spawner<'_> {
             Some(_) if mat_emission.is_some() && e.material.is_some() => {
                 return Err(PrismError::scene(&ctx, "has both an emissive material and a light; use one"));
             }
-            Some(LightDesc::Point { intensity, position }) => Some(Light::Point {
-                intensity: color(*intensity, "intensity", &ctx)?,
-                position: point(*position, "position", &ctx)?,
-            }),
+            Some(LightDesc::Point { intensity, position, attenuation }) => {
+                let attenuation = color(*attenuation, "attenuation", &ctx)?;
+                if attenuation == Vec3::ZERO {
+                    return Err(PrismError::scene(&ctx, "point light attenuation (a0, a1, a2) is all zero"));
+                }
+                Some(Light::Point {
+                    intensity: color(*intensity, "intensity", &ctx)?,
+                    position: point(*position, "position", &ctx)?,
+                    attenuation,
+                })
+            }
             Some(LightDesc::Directional { irradiance, direction }) => {
                 let d = point(*direction, "direction", &ctx)?;
                 if d == Vec3::ZERO {
