@@ -8,6 +8,7 @@ mod analytic;
 mod determinism;
 mod geometry;
 mod io;
+mod mit6837;
 mod plugin;
 mod sampling;
 mod scenes;

@@ -27,7 +27,7 @@ pub fn run(args: ConvertArgs) -> anyhow::Result<()> {
         Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
         _ => PathBuf::from("."),
     };
-    let text = mit6837::convert_file(&args.input, &out_dir)?;
+    let text = mit6837::convert_file(&args.input, &out_dir)?.ron;
     parse_scene(&text, &args.output)?;
     std::fs::write(&args.output, text).map_err(|e| PrismError::io(&args.output, e))?;
     Ok(())

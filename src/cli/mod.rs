@@ -1,8 +1,10 @@
-//! The `prism` command line (clap), per DESIGN section 3: `render`, `compare`, `bench` and `convert`.
+//! The `prism` command line (clap), per DESIGN section 3: `render`, `compare`, `bench` and `convert`, plus
+//! `raytracer` (6.837 course command lines).
 
 mod bench_cmd;
 mod compare_cmd;
 mod convert_cmd;
+mod raytracer_cmd;
 mod render_cmd;
 
 use clap::{Parser, Subcommand};
@@ -23,6 +25,8 @@ pub enum Command {
     Bench(bench_cmd::BenchArgs),
     /// Convert a 6.837 scene (.txt) to a Prism RON scene.
     Convert(convert_cmd::ConvertArgs),
+    /// Run a 6.837 course command line (`-input scene.txt -size 200 200 -output out.tga -grid 5 5 5 ...`).
+    Raytracer(raytracer_cmd::RaytracerArgs),
     /// Compare an image with a reference: RMSE, relMSE, mean absolute error.
     Compare {
         /// The image to test (.exr or .png).
@@ -41,6 +45,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Render(args) => render_cmd::run(args),
         Command::Bench(args) => bench_cmd::run(args),
         Command::Convert(args) => convert_cmd::run(args),
+        Command::Raytracer(args) => raytracer_cmd::run(args),
         Command::Compare { test, reference, json } => compare_cmd::run(&test, &reference, json),
     }
 }

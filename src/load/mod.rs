@@ -59,7 +59,7 @@ fn load_file(path: &Path, world: &mut World, res: &mut Resources) -> Result<File
         "txt" => {
             // A 6.837 scene: spawned through its RON equivalent (what `prism convert` writes).
             let base = path.parent().unwrap_or(Path::new("."));
-            let text = mit6837::convert_file(path, base)?;
+            let text = mit6837::convert_file(path, base)?.ron;
             let desc = parse_scene(&text, path)?;
             spawn_scene(&desc, &text, path, base, world, res)
         }

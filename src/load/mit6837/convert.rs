@@ -171,9 +171,18 @@ fn material_ron(m: &MaterialTxt) -> String {
     )
 }
 
+/// A 6.837 scene as RON.
+#[derive(Clone, Debug)]
+pub struct Converted {
+    pub ron: String,
+    /// How far the eye was moved back along the view direction (orthographic cameras; 0 otherwise): course
+    /// depths (from the course's camera centre) are Prism distances minus this.
+    pub eye_back: f32,
+}
+
 /// The RON text of a parsed 6.837 scene. `file` names the source (entity names carry its lines); mesh paths
 /// are written relative to `mesh_base` (the folder the RON file will live in).
-pub fn to_ron(scene: &SceneTxt, file: &Path, mesh_base: &Path) -> Result<String> {
+pub fn to_ron(scene: &SceneTxt, file: &Path, mesh_base: &Path) -> Result<Converted> {
     let mut w = Writer { file, mesh_base, out: String::new(), bounds: Bounds::EMPTY };
     if let Some(root) = &scene.root {
         w.object(root, &Affine3A::IDENTITY, 8)?;
@@ -187,6 +196,7 @@ pub fn to_ron(scene: &SceneTxt, file: &Path, mesh_base: &Path) -> Result<String>
     );
     s += "(\n";
     let size = format!("size: ({DEFAULT_SIZE}, {DEFAULT_SIZE})");
+    let mut eye_back = 0.0;
     match &scene.camera {
         CameraTxt::Perspective { center, direction, up, angle } => {
             let _ = writeln!(
@@ -216,6 +226,7 @@ pub fn to_ron(scene: &SceneTxt, file: &Path, mesh_base: &Path) -> Result<String>
                 behind + 0.01 * b.diagonal().length() + 1e-3
             };
             let eye = *center - d * back;
+            eye_back = back;
             let _ = writeln!(
                 s,
                 "    camera: (eye: {}, target: {}, up: {}, orthographic: {height:?}, {size}),",
@@ -247,5 +258,5 @@ pub fn to_ron(scene: &SceneTxt, file: &Path, mesh_base: &Path) -> Result<String>
     }
     s += &entities;
     s += "    ],\n)\n";
-    Ok(s)
+    Ok(Converted { ron: s, eye_back })
 }

@@ -12,7 +12,7 @@ mod lexer;
 mod parser;
 
 pub use ast::{CameraTxt, LightTxt, MaterialTxt, ObjectTxt, OpTxt, SceneTxt};
-pub use convert::{DEFAULT_SIZE, relative_path, to_ron};
+pub use convert::{Converted, DEFAULT_SIZE, relative_path, to_ron};
 pub use lexer::{Token, tokenize};
 pub use parser::parse_txt;
 
@@ -25,7 +25,7 @@ pub fn parse_file(path: &Path) -> Result<SceneTxt> {
     parse_txt(&text, path, path.parent().unwrap_or(Path::new(".")))
 }
 
-/// The RON text equivalent to a 6.837 scene file, with mesh paths relative to `ron_dir`.
-pub fn convert_file(path: &Path, ron_dir: &Path) -> Result<String> {
+/// The RON scene equivalent to a 6.837 scene file, with mesh paths relative to `ron_dir`.
+pub fn convert_file(path: &Path, ron_dir: &Path) -> Result<Converted> {
     to_ron(&parse_file(path)?, path, ron_dir)
 }
