@@ -5,10 +5,8 @@
 //! malformed files give one-line `file:line:col` errors, never a panic; course command lines run.
 
 use crate::common::{app_from_file, data, prism, render_file, scratch};
-use glam::{Vec2, Vec3, Vec3A};
-use prism::load::mit6837;
+use glam::{Vec3, Vec3A};
 use prism::settings::Overrides;
-use std::f32::consts::PI;
 use std::path::{Path, PathBuf};
 
 /// Every `.txt` scene of assignments `from..=to`.
@@ -113,7 +111,7 @@ fn square_scene(lights: &str, material: &str, background: &str) -> String {
 fn course_shading_formulas_come_out_exactly() {
     let rel = |a: Vec3, b: Vec3| ((a - b).abs() / b.abs().max(Vec3::splat(1e-6))).max_element();
     // Diffuse: kd * c * cos, plus ambient * kd.
-    let l = Vec3A::new(0.0, -0.6, -0.8);
+    // The light travels along (0, -0.6, -0.8): cos = 0.8 on the square facing +z.
     let cos = 0.8;
     let p = write_txt(
         "diffuse.txt",
@@ -123,7 +121,6 @@ fn course_shading_formulas_come_out_exactly() {
             "color 0 0 0 ambientLight 0.1 0.2 0.3",
         ),
     );
-    let _ = l;
     let got = centre_radiance(&p, "phong");
     let want = Vec3::new(0.5, 0.4, 1.0) * Vec3::new(0.9, 0.5, 0.25) * cos
         + Vec3::new(0.1, 0.2, 0.3) * Vec3::new(0.5, 0.4, 1.0);
@@ -157,13 +154,12 @@ fn course_shading_formulas_come_out_exactly() {
     let p = write_txt("flat.txt", &square_scene("", "Material { diffuseColor 0.3 0.6 0.9 }", "color 0 0 0"));
     let got = centre_radiance(&p, "phong");
     assert!(rel(got, Vec3::new(0.3, 0.6, 0.9)) < 1e-5, "flat: {got}");
-    let _ = PI;
 }
 
 #[test]
 fn refraction_has_no_fresnel_and_orthographic_rays_start_behind_the_camera() {
-    // A transparent sphere (ior 1.5) around the camera's view axis in front of a white emitting... background:
-    // seen through it, the background is weighted by the transparent colour only (no Fresnel loss, no 1/eta^2).
+    // A transparent sphere (ior 1.5) around the camera's centre, seen head-on: the background through it is
+    // weighted by the transparent colour once per interface only (no Fresnel loss, no 1/eta^2 scaling).
     let dir = scratch("refract");
     let p = dir.join("glass.txt");
     std::fs::write(
@@ -234,7 +230,6 @@ fn transforms_nest_and_material_index_applies_in_file_order() {
     // Matrix is pre-multiplied as in the course: M T(5,0,0) S(3): (1,0,0) -> (3,0,0) -> (8,0,0) -> (18,20,30).
     let t2 = s.prims.tris[2];
     assert!(close(t2[0], [15.0, 20.0, 30.0]) && close(t2[1], [18.0, 20.0, 30.0]), "{t2:?}");
-    let _ = Vec2::ZERO;
 }
 
 /// Run `prism render` on 6.837 text; the first stderr line must be an error naming `bad.txt:LINE:`.

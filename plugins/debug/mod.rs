@@ -151,7 +151,7 @@ impl PixelIntegrator for DebugView {
                 }
                 self.near = self.params.near.unwrap_or(if lo.is_finite() { lo } else { 0.0 });
                 self.far = self.params.far.unwrap_or(if hi > self.near { hi } else { self.near + 1.0 });
-                if !(self.far > self.near) {
+                if self.far.is_nan() || self.far <= self.near {
                     return Err(PrismError::invalid(format!(
                         "debug(mode: depth): far ({}) must be greater than near ({})",
                         self.far, self.near
@@ -203,7 +203,7 @@ impl DebugView {
                 continue;
             }
             let f = ((p[a] - b.min[a]) / size[a].max(f32::MIN_POSITIVE)).clamp(0.0, 1.0);
-            edge |= f < 0.04 || f > 0.96;
+            edge |= !(0.04..=0.96).contains(&f);
         }
         srgb(base * shade * if edge { 0.45 } else { 1.0 })
     }

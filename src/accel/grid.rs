@@ -45,7 +45,7 @@ use rayon::prelude::*;
 use std::time::Duration;
 
 /// Cells along the longest axis = `DEFAULT_LAMBDA * cbrt(N)` for automatic resolutions.
-pub const DEFAULT_LAMBDA: f32 = 3.0;
+pub const DEFAULT_LAMBDA: f32 = 2.0;
 /// Largest automatic resolution along one axis.
 pub const AUTO_MAX_PER_AXIS: u32 = 512;
 /// Largest accepted resolution along one axis.
@@ -60,6 +60,9 @@ pub const AUTO_MAX_CELLS_PER_PRIM: u64 = 24;
 pub const NEST_THRESHOLD: u32 = 48;
 /// Nesting depth limit (the top grid is depth 0).
 pub const MAX_NEST_DEPTH: u32 = 3;
+
+/// The first and last cell (inclusive) a primitive's bounds overlap.
+type CellRange = ([i32; 3], [i32; 3]);
 
 /// Marks a cell whose content is a nested grid (`start` is then the index of its level).
 const NESTED: u32 = u32::MAX;
@@ -78,10 +81,27 @@ struct Level {
     cell: Vec3A,
     inv_cell: Vec3A,
     cells: Vec<Cell>,
+    /// One bit per cell, set when the cell holds something: the traversal skips empty cells by reading this
+    /// small array (a few KiB) instead of the cells themselves.
+    occupied: Vec<u64>,
     depth: u32,
 }
 
 impl Level {
+    #[inline(always)]
+    fn is_occupied(&self, i: usize) -> bool {
+        self.occupied[i >> 6] & (1 << (i & 63)) != 0
+    }
+
+    fn update_occupancy(&mut self) {
+        self.occupied = vec![0; self.cells.len().div_ceil(64)];
+        for (i, c) in self.cells.iter().enumerate() {
+            if c.count != 0 {
+                self.occupied[i >> 6] |= 1 << (i & 63);
+            }
+        }
+    }
+
     #[inline(always)]
     fn index(&self, c: [i32; 3]) -> usize {
         (c[0] + self.res[0] * (c[1] + self.res[1] * c[2])) as usize
@@ -179,6 +199,10 @@ pub struct CellHit {
 pub struct UniformGrid {
     levels: Vec<Level>,
     refs: Vec<u32>,
+    /// The vertices of each reference's triangle (zero for spheres), in cell order: a cell's triangles are read
+    /// from consecutive memory.
+    ref_tris: Vec<[Vec3A; 3]>,
+    num_tris: u32,
     owner: u64,
     num_prims: u32,
     resolution: GridResolution,
@@ -205,6 +229,8 @@ impl UniformGrid {
         let mut grid = UniformGrid {
             levels: Vec::new(),
             refs: Vec::new(),
+            ref_tris: Vec::new(),
+            num_tris: prims.num_tris(),
             owner: new_owner_id(),
             num_prims: n,
             resolution,
@@ -222,6 +248,9 @@ impl UniformGrid {
         let ids: Vec<u32> = (0..n).collect();
         let nest = matches!(resolution, GridResolution::Auto);
         grid.build_level(prims, &ids, bounds, res, 0, nest, lambda)?;
+        let nt = grid.num_tris;
+        grid.ref_tris =
+            grid.refs.iter().map(|&id| if id < nt { prims.tris[id as usize] } else { [Vec3A::ZERO; 3] }).collect();
         Ok(grid)
     }
 
@@ -246,11 +275,12 @@ impl UniformGrid {
             cell,
             inv_cell: Vec3A::ONE / cell,
             cells: vec![Cell::default(); res.iter().map(|&r| r as usize).product()],
+            occupied: Vec::new(),
             depth,
         };
         // Candidate cells: the cell range of each primitive's bounds.
-        let candidate_ranges = |level: &Level| -> (Vec<([i32; 3], [i32; 3])>, u64) {
-            let ranges: Vec<([i32; 3], [i32; 3])> = ids
+        let candidate_ranges = |level: &Level| -> (Vec<CellRange>, u64) {
+            let ranges: Vec<CellRange> = ids
                 .par_iter()
                 .map(|&id| {
                     let b = prims.prim_bounds(id);
@@ -318,6 +348,7 @@ impl UniformGrid {
             self.refs[fill[c as usize] as usize] = id;
             fill[c as usize] += 1;
         }
+        level.update_occupancy();
         let index = self.levels.len();
         self.levels.push(level);
         if auto && depth < MAX_NEST_DEPTH {
@@ -400,7 +431,8 @@ impl UniformGrid {
             counter.node();
             let (axis, t_face) = dda.exit();
             let t_exit = t_face.min(t1);
-            let cell = l.cells[l.index(dda.c)];
+            let index = l.index(dda.c);
+            let cell = if l.is_occupied(index) { l.cells[index] } else { Cell::default() };
             if cell.count == NESTED {
                 if let Some(child) = self.levels.get(cell.start as usize)
                     && let Some((c0, c1)) = clip_ray(&child.bounds, ray.origin, ri, t_enter, t_exit)
@@ -409,13 +441,18 @@ impl UniformGrid {
                     return true;
                 }
             } else if cell.count > 0 {
-                for &id in &self.refs[cell.start as usize..(cell.start + cell.count) as usize] {
+                let range = cell.start as usize..(cell.start + cell.count) as usize;
+                for (&id, [p0, p1, p2]) in self.refs[range.clone()].iter().zip(&self.ref_tris[range]) {
                     if !mailbox.first_visit(id) {
                         continue;
                     }
                     counter.prim();
-                    let r = Ray { tmax: best.tmax, ..*ray };
-                    if let Some(h) = prims.intersect_bounded(id, &r, wt) {
+                    let hit = if id < self.num_tris {
+                        wt.intersect(*p0, *p1, *p2, best.tmax).map(|h| Hit { t: h.t, prim: id, b1: h.b1, b2: h.b2 })
+                    } else {
+                        prims.intersect_sphere(id, &Ray { tmax: best.tmax, ..*ray })
+                    };
+                    if let Some(h) = hit {
                         best.tmax = h.t;
                         best.hit = Some(h);
                         if ANY {
@@ -599,7 +636,7 @@ fn check_resolution(r: [u32; 3]) -> Result<()> {
             r[0],
             r[1],
             r[2],
-            MAX_CELLS * 8 >> 20
+            (MAX_CELLS * 8) >> 20
         )));
     }
     Ok(())
@@ -608,7 +645,7 @@ fn check_resolution(r: [u32; 3]) -> Result<()> {
 /// `lambda * cbrt(n)` cells along the longest side of a box of size `diag`, the other axes in proportion.
 pub fn auto_resolution(n: usize, diag: Vec3A, lambda: f32) -> [u32; 3] {
     let longest = diag.max_element();
-    if n == 0 || !(longest > 0.0) {
+    if n == 0 || longest.is_nan() || longest <= 0.0 {
         return [1; 3];
     }
     let per_unit = lambda * (n as f32).cbrt() / longest;
@@ -642,7 +679,9 @@ impl Accelerator for UniformGrid {
         AccelStats {
             kind: "grid",
             build_time: self.build_time,
-            memory_bytes: cells * std::mem::size_of::<Cell>() + self.refs.len() * 4,
+            memory_bytes: cells * std::mem::size_of::<Cell>()
+                + self.levels.iter().map(|l| l.occupied.len() * 8).sum::<usize>()
+                + self.refs.len() * (4 + std::mem::size_of::<[Vec3A; 3]>()),
             nodes: cells,
             detail: format!(
                 "{}x{}x{}{auto}, {:.2} refs/prim, {} nested",

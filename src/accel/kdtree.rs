@@ -20,11 +20,14 @@ use super::work::{NoCount, TraversalWork, WorkCounter};
 use super::{AccelStats, Accelerator};
 use crate::geometry::{Bounds, Ray, WatertightRay};
 use crate::primitives::{Hit, Primitives};
+use glam::Vec3A;
 use std::time::Duration;
 
 /// Hard depth limit; the traversal stack has room for it.
 pub const MAX_DEPTH: u32 = 60;
 const STACK: usize = 64;
+/// Size of the per-ray cache of recently tested primitives.
+const RECENT: usize = 8;
 
 /// Build parameters.
 #[derive(Clone, Copy, Debug)]
@@ -43,7 +46,7 @@ pub struct KdParams {
 
 impl Default for KdParams {
     fn default() -> Self {
-        KdParams { traversal_cost: 1.0, intersection_cost: 1.5, empty_bonus: 0.8, max_leaf: 1, max_depth: None }
+        KdParams { traversal_cost: 2.0, intersection_cost: 1.0, empty_bonus: 0.9, max_leaf: 1, max_depth: None }
     }
 }
 
@@ -115,6 +118,10 @@ pub struct KdTreeData {
 pub struct KdTree {
     nodes: Vec<KdNode>,
     leaf_prims: Vec<u32>,
+    /// The vertices of each leaf reference's triangle (zero for spheres), in leaf order: a leaf's triangles are
+    /// read from consecutive memory instead of scattered over the primitive array.
+    leaf_tris: Vec<[Vec3A; 3]>,
+    num_tris: u32,
     bounds: Bounds,
     depth: u32,
     num_prims: u32,
@@ -130,9 +137,14 @@ impl KdTree {
         let n = prims.num_bounded();
         let bounds = if n == 0 { Bounds::EMPTY } else { padded(&prims.bounds) };
         let data = if n == 0 { KdTreeData::default() } else { build_tree(prims, bounds, params) };
+        let nt = prims.num_tris();
+        let leaf_tris =
+            data.prims.iter().map(|&id| if id < nt { prims.tris[id as usize] } else { [Vec3A::ZERO; 3] }).collect();
         KdTree {
             nodes: data.nodes,
             leaf_prims: data.prims,
+            leaf_tris,
+            num_tris: nt,
             bounds,
             depth: data.max_depth,
             num_prims: n,
@@ -176,6 +188,9 @@ impl KdTree {
         let mut stack = [(0u32, 0f32, 0f32); STACK];
         let mut sp = 0;
         let mut node = 0u32;
+        // The last few primitives tested: a primitive straddling consecutive leaves is not tested again.
+        let mut recent = [u32::MAX; RECENT];
+        let mut next_slot = 0;
         loop {
             // A node that starts beyond the closest hit is skipped. Not `break`: the stack is not sorted by entry
             // when an axis-parallel ray in a split plane pushed a sibling with the same interval.
@@ -222,10 +237,20 @@ impl KdTree {
                 continue;
             }
             let first = n.first() as usize;
-            for &id in &self.leaf_prims[first..first + n.count() as usize] {
+            let range = first..first + n.count() as usize;
+            for (&id, [p0, p1, p2]) in self.leaf_prims[range.clone()].iter().zip(&self.leaf_tris[range]) {
+                if recent.contains(&id) {
+                    continue;
+                }
+                recent[next_slot % RECENT] = id;
+                next_slot += 1;
                 counter.prim();
-                let r = Ray { tmax: end, ..*ray };
-                if let Some(h) = prims.intersect_bounded(id, &r, &wt) {
+                let hit = if id < self.num_tris {
+                    wt.intersect(*p0, *p1, *p2, end).map(|h| Hit { t: h.t, prim: id, b1: h.b1, b2: h.b2 })
+                } else {
+                    prims.intersect_sphere(id, &Ray { tmax: end, ..*ray })
+                };
+                if let Some(h) = hit {
                     end = h.t;
                     best = Some(h);
                     if ANY {
@@ -263,7 +288,8 @@ impl Accelerator for KdTree {
         AccelStats {
             kind: "kdtree",
             build_time: self.build_time,
-            memory_bytes: self.nodes.len() * std::mem::size_of::<KdNode>() + self.leaf_prims.len() * 4,
+            memory_bytes: self.nodes.len() * std::mem::size_of::<KdNode>()
+                + self.leaf_prims.len() * (4 + std::mem::size_of::<[Vec3A; 3]>()),
             nodes: self.nodes.len(),
             detail: format!(
                 "depth {}, {} leaves, {:.2} refs/prim",

@@ -161,7 +161,7 @@ fn find_plane(ctx: &Ctx, node: &NodeInput) -> Option<Split> {
     let n = node.ids.len() as u32;
     let p = &ctx.params;
     let area = node.voxel.area();
-    if !(area > 0.0) {
+    if area.is_nan() || area <= 0.0 {
         return None;
     }
     let leaf_cost = p.intersection_cost * n as f32;

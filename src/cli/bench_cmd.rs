@@ -186,9 +186,9 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
 
 /// The Markdown table of the rows.
 pub fn table(rows: &[BenchRow], threads: usize, size: u32) -> String {
-    let mut s = format!(
+    let mut s = String::from(
         "| scene | primitives | accel | build ms | memory | nodes/cells | camera Mrays/s | secondary Mrays/s | shadow \
-         Mrays/s | structure |\n|---|---:|---|---:|---:|---:|---:|---:|---:|---|\n"
+         Mrays/s | structure |\n|---|---:|---|---:|---:|---:|---:|---:|---:|---|\n",
     );
     for r in rows {
         s += &format!(
