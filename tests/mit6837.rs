@@ -74,7 +74,8 @@ fn converting_to_ron_then_loading_gives_the_same_primitives_lights_and_camera() 
 
 /// Write a 6.837 scene into a scratch folder (with a one-triangle `tri.obj` beside it).
 fn write_txt(name: &str, text: &str) -> PathBuf {
-    let dir = scratch("txt");
+    // One folder per file name: tests run in parallel and rewrite their own files only.
+    let dir = scratch(&format!("txt-{}", name.trim_end_matches(".txt")));
     std::fs::write(dir.join("tri.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
     let p = dir.join(name);
     std::fs::write(&p, text).unwrap();
