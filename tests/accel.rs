@@ -460,3 +460,46 @@ fn counted_traversal_reports_work_for_every_accelerator() {
         }
     }
 }
+
+#[test]
+fn bad_grid_options_and_scene_settings_give_one_line_errors() {
+    let dir = crate::common::scratch("grid-cli");
+    let scene = dir.join("s.ron");
+    std::fs::write(&scene, "(camera: (size: (8, 8)), entities: [(shape: Sphere())])").unwrap();
+    let out = dir.join("s.png");
+    let run = |extra: &[&str]| {
+        let mut args = vec!["render", scene.to_str().unwrap(), "-q", "-o", out.to_str().unwrap()];
+        args.extend_from_slice(extra);
+        let o = crate::common::prism(&args);
+        (o.status.success(), String::from_utf8_lossy(&o.stderr).to_string())
+    };
+    for (extra, needle) in [
+        (vec!["--grid", "0", "4", "4"], "0 cells"),
+        (vec!["--grid", "10000", "1", "1"], "at most 4096"),
+        (vec!["--grid", "4096", "4096", "4"], "cells (at most"),
+        (vec!["--accel", "bvh", "--grid", "2", "2", "2"], "--accel is bvh"),
+        (vec!["--grid", "2", "x", "2"], "invalid"),
+        (vec!["--accel", "octree"], "bvh, kdtree, grid or brute"),
+    ] {
+        // The first line is the error (clap adds a usage hint below its own parse errors).
+        let (ok, err) = run(&extra);
+        let first = err.lines().next().unwrap_or("");
+        assert!(!ok && !err.contains("panicked") && first.starts_with("error:"), "{err}");
+        assert!(first.contains(needle), "{extra:?}: {err}");
+    }
+    for (text, needle) in [
+        ("(camera: (), render: (grid: (0, 1, 1)), entities: [])", "0 cells"),
+        ("(camera: (), render: (accel: kdtree, grid: (2, 2, 2)), entities: [])", "needs accel: grid"),
+    ] {
+        std::fs::write(&scene, text).unwrap();
+        let (ok, err) = run(&[]);
+        assert!(!ok && err.contains("s.ron") && err.contains(needle) && err.lines().count() == 1, "{err}");
+    }
+    // Valid: every accelerator renders the scene, and a grid resolution from the scene file is used.
+    std::fs::write(&scene, "(camera: (size: (8, 8)), render: (grid: (3, 2, 1)), entities: [(shape: Sphere())])")
+        .unwrap();
+    for accel in ["bvh", "kdtree", "grid", "brute"] {
+        let (ok, err) = run(&["--accel", accel]);
+        assert!(ok, "{accel}: {err}");
+    }
+}

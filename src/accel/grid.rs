@@ -616,7 +616,8 @@ fn overlaps(prims: &Primitives, id: u32, b: &Bounds) -> bool {
     }
 }
 
-fn check_resolution(r: [u32; 3]) -> Result<()> {
+/// A clear error for resolutions with an empty axis, too many cells per axis, or too many cells in total.
+pub fn check_resolution(r: [u32; 3]) -> Result<()> {
     if r.contains(&0) {
         return Err(PrismError::invalid(format!(
             "grid resolution {}x{}x{} has an axis with 0 cells (each axis needs 1 to {MAX_CELLS_PER_AXIS})",

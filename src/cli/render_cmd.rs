@@ -69,6 +69,7 @@ pub(super) fn accel_override(accel: Option<AccelKind>, grid: Option<&[u32]>) -> 
     let Some(g) = grid else {
         return Ok(accel);
     };
+    crate::accel::grid::check_resolution([g[0], g[1], g[2]])?;
     let res = GridResolution::Fixed([g[0], g[1], g[2]]);
     match accel {
         None | Some(AccelKind::Grid(_)) => Ok(Some(AccelKind::Grid(res))),

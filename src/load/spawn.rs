@@ -107,6 +107,9 @@ pub fn spawn_scene(
 
 /// The accelerator a scene's `render: (accel: ..., grid: ...)` asks for; `grid` alone implies the grid.
 fn accel_kind(accel: Option<AccelDesc>, grid: Option<[u32; 3]>, ctx: &str) -> Result<Option<AccelKind>> {
+    if let Some(r) = grid {
+        crate::accel::grid::check_resolution(r).map_err(|e| PrismError::scene(ctx, format!("render: {e}")))?;
+    }
     let resolution = grid.map_or(GridResolution::Auto, GridResolution::Fixed);
     Ok(match (accel, grid) {
         (None, None) => None,
@@ -114,7 +117,7 @@ fn accel_kind(accel: Option<AccelDesc>, grid: Option<[u32; 3]>, ctx: &str) -> Re
         (Some(a), Some(_)) => {
             return Err(PrismError::scene(
                 ctx,
-                format!("render: `grid` resolution given with accel {a:?}; use accel: grid"),
+                format!("render: a `grid` resolution needs accel: grid, not {}", format!("{a:?}").to_lowercase()),
             ));
         }
         (Some(AccelDesc::Bvh), None) => Some(AccelKind::Bvh),
