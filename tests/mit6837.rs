@@ -252,96 +252,56 @@ const MATS: &str = "Materials { numMaterials 1 Material { diffuseColor 1 0 0 } }
 #[test]
 fn malformed_files_give_one_line_errors_with_file_and_line() {
     let sphere = "Sphere { center 0 0 0 radius 1 }";
-    // Missing braces.
-    assert_txt_error(&format!("{CAM}{MATS}Group {{ numObjects 1\nMaterialIndex 0\n{sphere}\n"), 5, "end of file");
-    assert_txt_error(
-        &format!("{CAM}{MATS}Group {{ numObjects 1 MaterialIndex 0\nSphere center 0 0 0 radius 1 }} }}"),
-        4,
-        "expected `{`",
-    );
-    assert_txt_error(
-        &format!("{CAM}Materials {{ numMaterials 1 Material {{ diffuseColor 1 0 0 }}\nGroup {{ }}"),
-        3,
-        "unknown keyword `Group` in Materials",
-    );
-    // Wrong counts.
-    assert_txt_error(
-        &format!("{CAM}{MATS}Group {{ numObjects 2 MaterialIndex 0\n{sphere}\n}}"),
-        5,
-        "numObjects 2 but contains 1",
-    );
-    assert_txt_error(
-        &format!("{CAM}{MATS}Group {{ numObjects 1 MaterialIndex 0\n{sphere} {sphere} }}"),
-        4,
-        "numObjects 1 but contains more",
-    );
-    assert_txt_error(
-        &format!("{CAM}Materials {{ numMaterials 2\nMaterial {{ diffuseColor 1 0 0 }} }}"),
-        3,
-        "numMaterials 2 but lists 1",
-    );
-    assert_txt_error(
-        &format!("{CAM}Lights {{ numLights 0\nDirectionalLight {{ direction 0 0 -1 color 1 1 1 }} }}"),
-        3,
-        "numLights 0 but lists more",
-    );
-    // Unknown keywords.
-    assert_txt_error(
-        &format!("{CAM}{MATS}Group {{ numObjects 1 MaterialIndex 0\nCylinder {{ }} }}"),
-        4,
-        "unknown object `Cylinder`",
-    );
-    assert_txt_error(
-        &format!("{CAM}\nMaterials {{ numMaterials 1 Material {{ shininess 3 }} }}"),
-        3,
-        "unknown keyword `shininess`",
-    );
-    assert_txt_error(&format!("{CAM}Background {{ colour 1 1 1 }}"), 2, "unknown keyword `colour`");
-    assert_txt_error("Camera { }", 1, "unknown keyword `Camera`");
-    // Missing obj_file / missing mesh.
-    assert_txt_error(
-        &format!("{CAM}{MATS}Group {{ numObjects 1 MaterialIndex 0\nTriangleMesh {{ }} }}"),
-        4,
-        "expected `obj_file`",
-    );
-    assert_txt_error(
-        &format!("{CAM}{MATS}Group {{ numObjects 1 MaterialIndex 0\nTriangleMesh {{ obj_file nope.obj }} }}"),
-        4,
-        "not found",
-    );
-    // Non-numeric tokens.
-    assert_txt_error(
-        &format!("{CAM}{MATS}Group {{ numObjects 1 MaterialIndex 0\nSphere {{ center 0 zero 0 radius 1 }} }}"),
-        4,
-        "`zero`",
-    );
-    assert_txt_error(&format!("{CAM}{MATS}Group {{ numObjects one }}"), 3, "`one`");
-    assert_txt_error("OrthographicCamera { center 0 0 10 direction 0 0 -1 up 0 1 0 size five }", 1, "`five`");
-    // Material indices, degenerate input.
-    assert_txt_error(
-        &format!("{CAM}{MATS}Group {{ numObjects 1 MaterialIndex 3\n{sphere} }}"),
-        3,
-        "MaterialIndex 3 is out of range",
-    );
-    assert_txt_error(&format!("{CAM}{MATS}Group {{ numObjects 1\n{sphere} }}"), 4, "before any MaterialIndex");
-    assert_txt_error(
-        &format!("{CAM}{MATS}Group {{ numObjects 1 MaterialIndex 0\nSphere {{ center 0 0 0 radius -1 }} }}"),
-        4,
-        "radius",
-    );
-    assert_txt_error(
-        &format!("{CAM}{MATS}Group {{ numObjects 1 MaterialIndex 0\nTransform {{ Scale 1 0 1 {sphere} }} }}"),
-        4,
-        "singular",
-    );
-    assert_txt_error(
-        &format!(
-            "{CAM}{MATS}Group {{ numObjects 1 MaterialIndex 0\nTriangle {{ vertex0 0 0 0 vertex1 1 1 1 vertex2 2 2 2 }} }}"
+    let group = |body: &str| format!("{CAM}{MATS}Group {{ numObjects 1 MaterialIndex 0\n{body} }}");
+    let cases: Vec<(String, usize, &str)> = vec![
+        // Missing braces.
+        (format!("{CAM}{MATS}Group {{ numObjects 1\nMaterialIndex 0\n{sphere}\n"), 5, "end of file"),
+        (group("Sphere center 0 0 0 radius 1 }"), 4, "expected `{`"),
+        (
+            format!("{CAM}Materials {{ numMaterials 1 Material {{ diffuseColor 1 0 0 }}\nGroup {{ }}"),
+            3,
+            "`Group` in Materials",
         ),
-        4,
-        "zero area",
-    );
-    assert_txt_error(&format!("{MATS}Group {{ numObjects 0 }}"), 1, "no camera");
+        // Wrong counts.
+        (format!("{CAM}{MATS}Group {{ numObjects 2 MaterialIndex 0\n{sphere}\n}}"), 5, "numObjects 2 but contains 1"),
+        (group(&format!("{sphere} {sphere}")), 4, "numObjects 1 but contains more"),
+        (
+            format!("{CAM}Materials {{ numMaterials 2\nMaterial {{ diffuseColor 1 0 0 }} }}"),
+            3,
+            "numMaterials 2 but lists 1",
+        ),
+        (
+            format!("{CAM}Lights {{ numLights 0\nDirectionalLight {{ direction 0 0 -1 color 1 1 1 }} }}"),
+            3,
+            "numLights 0 but lists more",
+        ),
+        // Unknown keywords.
+        (group("Cylinder { }"), 4, "unknown object `Cylinder`"),
+        (format!("{CAM}\nMaterials {{ numMaterials 1 Material {{ shininess 3 }} }}"), 3, "unknown keyword `shininess`"),
+        (format!("{CAM}Background {{ colour 1 1 1 }}"), 2, "unknown keyword `colour`"),
+        ("Camera { }".into(), 1, "unknown keyword `Camera`"),
+        // Missing obj_file, missing mesh.
+        (group("TriangleMesh { }"), 4, "expected `obj_file`"),
+        (group("TriangleMesh { obj_file nope.obj }"), 4, "not found"),
+        // Non-numeric tokens.
+        (group("Sphere { center 0 zero 0 radius 1 }"), 4, "`zero`"),
+        (format!("{CAM}{MATS}Group {{ numObjects one }}"), 3, "`one`"),
+        ("OrthographicCamera { center 0 0 10 direction 0 0 -1 up 0 1 0 size five }".into(), 1, "`five`"),
+        // Material indices, degenerate geometry, no camera.
+        (
+            format!("{CAM}{MATS}Group {{ numObjects 1 MaterialIndex 3\n{sphere} }}"),
+            3,
+            "MaterialIndex 3 is out of range",
+        ),
+        (format!("{CAM}{MATS}Group {{ numObjects 1\n{sphere} }}"), 4, "before any MaterialIndex"),
+        (group("Sphere { center 0 0 0 radius -1 }"), 4, "radius"),
+        (group(&format!("Transform {{ Scale 1 0 1 {sphere} }}")), 4, "singular"),
+        (group("Triangle { vertex0 0 0 0 vertex1 1 1 1 vertex2 2 2 2 }"), 4, "zero area"),
+        (format!("{MATS}Group {{ numObjects 0 }}"), 1, "no camera"),
+    ];
+    for (text, line, needle) in cases {
+        assert_txt_error(&text, line, needle);
+    }
 }
 
 #[test]

@@ -249,11 +249,15 @@ impl Integrator for HeatMap {
         if !self.announced && self.params.max.is_none() {
             self.announced = true;
             let mean = counts.iter().sum::<f32>() / counts.len().max(1) as f32;
+            let what = match self.params.heat {
+                HeatCount::Nodes => "nodes or cells visited",
+                HeatCount::Prims => "primitives tested",
+                HeatCount::Total => "nodes/cells and primitives",
+            };
             eprintln!(
-                "debug heat ({}, {:?}): mean {mean:.1} per ray; white = {max} (99th percentile; set debug(max: ...) to \
-                 fix the scale)",
-                scene.accel.stats().kind,
-                self.params.heat
+                "debug heat ({}): {what}, mean {mean:.1} per ray; white = {max} (99th percentile; debug(max: ...) fixes \
+                 the scale)",
+                scene.accel.stats().kind
             );
         }
         let image = counts.iter().map(|&c| srgb(ramp(c / max))).collect();

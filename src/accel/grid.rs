@@ -248,6 +248,7 @@ impl UniformGrid {
         let ids: Vec<u32> = (0..n).collect();
         let nest = matches!(resolution, GridResolution::Auto);
         grid.build_level(prims, &ids, bounds, res, 0, nest, lambda)?;
+        grid.compact_refs();
         let nt = grid.num_tris;
         grid.ref_tris =
             grid.refs.iter().map(|&id| if id < nt { prims.tris[id as usize] } else { [Vec3A::ZERO; 3] }).collect();
@@ -355,6 +356,20 @@ impl UniformGrid {
             self.nest_crowded_cells(prims, index, lambda)?;
         }
         Ok(index)
+    }
+
+    /// Drop the references of cells that became nested grids (their primitives are listed in the nested grid).
+    fn compact_refs(&mut self) {
+        let old = std::mem::take(&mut self.refs);
+        let mut refs = Vec::with_capacity(old.len());
+        for cell in self.levels.iter_mut().flat_map(|l| l.cells.iter_mut()) {
+            if cell.count != NESTED && cell.count > 0 {
+                let start = refs.len() as u32;
+                refs.extend_from_slice(&old[cell.start as usize..(cell.start + cell.count) as usize]);
+                cell.start = start;
+            }
+        }
+        self.refs = refs;
     }
 
     /// Replace the crowded cells of level `index` by nested grids where that spreads the primitives out.

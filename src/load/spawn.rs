@@ -164,39 +164,13 @@ impl Spawner<'_> {
                 Material { two_sided: *two_sided, ..Material::lambert(name, color(*albedo, "albedo", &ctx)?) }
             }
             MaterialDesc::Phong { ambient, diffuse, specular, exponent, reflective, transparent, ior, two_sided } => {
-                if !(exponent.is_finite() && *exponent >= 0.0) {
-                    return Err(PrismError::scene(&ctx, format!("exponent must be >= 0, got {exponent}")));
-                }
-                Material {
-                    name: name.to_string(),
-                    ambient: color(*ambient, "ambient", &ctx)?,
-                    diffuse: color(*diffuse, "diffuse", &ctx)?,
-                    specular: color(*specular, "specular", &ctx)?,
-                    exponent: *exponent,
-                    reflective: color(*reflective, "reflective", &ctx)?,
-                    transparent: color(*transparent, "transparent", &ctx)?,
-                    ior: check_ior(*ior, &ctx)?,
-                    two_sided: *two_sided,
-                    shading: Shading::Physical,
-                }
+                let colors = [*ambient, *diffuse, *specular, *reflective, *transparent];
+                phong_material(name, &ctx, colors, *exponent, *ior, *two_sided, Shading::Physical)?
             }
+            // The course's ambient term is ambientLight times the diffuse colour.
             MaterialDesc::Mit6837 { diffuse, specular, exponent, reflective, transparent, ior, two_sided } => {
-                if !(exponent.is_finite() && *exponent >= 0.0) {
-                    return Err(PrismError::scene(&ctx, format!("exponent must be >= 0, got {exponent}")));
-                }
-                let diffuse = color(*diffuse, "diffuse", &ctx)?;
-                Material {
-                    name: name.to_string(),
-                    ambient: diffuse,
-                    diffuse,
-                    specular: color(*specular, "specular", &ctx)?,
-                    exponent: *exponent,
-                    reflective: color(*reflective, "reflective", &ctx)?,
-                    transparent: color(*transparent, "transparent", &ctx)?,
-                    ior: check_ior(*ior, &ctx)?,
-                    two_sided: *two_sided,
-                    shading: Shading::Mit6837,
-                }
+                let colors = [*diffuse, *diffuse, *specular, *reflective, *transparent];
+                phong_material(name, &ctx, colors, *exponent, *ior, *two_sided, Shading::Mit6837)?
             }
             MaterialDesc::Mirror { reflectance } => {
                 Material { reflective: color(*reflectance, "reflectance", &ctx)?, ..Material::black(name) }
@@ -463,6 +437,35 @@ struct MeshPart {
 enum ShapeOut {
     One(Shape),
     Parts(Vec<MeshPart>),
+}
+
+/// A Phong material from `[ambient, diffuse, specular, reflective, transparent]` colours (validated).
+#[allow(clippy::too_many_arguments)]
+fn phong_material(
+    name: &str,
+    ctx: &str,
+    colors: [V3; 5],
+    exponent: f32,
+    ior: f32,
+    two_sided: bool,
+    shading: Shading,
+) -> Result<Material> {
+    if !(exponent.is_finite() && exponent >= 0.0) {
+        return Err(PrismError::scene(ctx, format!("exponent must be >= 0, got {exponent}")));
+    }
+    let [ambient, diffuse, specular, reflective, transparent] = colors;
+    Ok(Material {
+        name: name.to_string(),
+        ambient: color(ambient, "ambient", ctx)?,
+        diffuse: color(diffuse, "diffuse", ctx)?,
+        specular: color(specular, "specular", ctx)?,
+        exponent,
+        reflective: color(reflective, "reflective", ctx)?,
+        transparent: color(transparent, "transparent", ctx)?,
+        ior: check_ior(ior, ctx)?,
+        two_sided,
+        shading,
+    })
 }
 
 fn check_ior(ior: f32, ctx: &str) -> Result<f32> {
