@@ -503,3 +503,29 @@ fn bad_grid_options_and_scene_settings_give_one_line_errors() {
         assert!(ok, "{accel}: {err}");
     }
 }
+
+#[test]
+fn prism_bench_prints_the_table_and_writes_the_chart() {
+    let dir = crate::common::scratch("bench");
+    let chart = dir.join("accel.svg");
+    let scene = data("mit6837/assignment5/bunny_200.obj");
+    let o = crate::common::prism(&[
+        "bench",
+        scene.to_str().unwrap(),
+        "--accel",
+        "all",
+        "--seconds",
+        "0.02",
+        "--size",
+        "32",
+        "--chart",
+        chart.to_str().unwrap(),
+    ]);
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    for accel in ["| bvh |", "| kdtree |", "| grid |", "| brute |"] {
+        assert!(out.contains(accel), "{accel} missing:\n{out}");
+    }
+    let svg = std::fs::read_to_string(&chart).unwrap();
+    assert!(svg.starts_with("<svg") && svg.contains("kdtree camera"), "{svg}");
+}

@@ -70,6 +70,15 @@ fn converting_to_ron_then_loading_gives_the_same_primitives_lights_and_camera() 
         assert_eq!(format!("{:?}", sa.camera), format!("{:?}", sb.camera), "{name}: camera");
         assert_eq!(sa.globals, sb.globals, "{name}: background and ambient");
     }
+    // Wrong extensions are one-line errors.
+    let txt = scenes(1, 1)[0].clone();
+    for (input, output, needle) in
+        [(txt.to_str().unwrap(), "out.obj", "must be a .ron"), ("scene.ron", "out.ron", "expected a 6.837 scene")]
+    {
+        let o = prism(&["convert", input, "-o", dir.join(output).to_str().unwrap()]);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(!o.status.success() && err.starts_with("error:") && err.contains(needle), "{err}");
+    }
 }
 
 /// Write a 6.837 scene into a scratch folder (with a one-triangle `tri.obj` beside it).
