@@ -5,6 +5,7 @@ mod common;
 
 mod accel;
 mod analytic;
+mod debug;
 mod determinism;
 mod geometry;
 mod io;

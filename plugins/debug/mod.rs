@@ -94,7 +94,7 @@ impl Plugin for DebugPlugin {
 /// Colour ramp black - purple - red - orange - yellow - white (inferno-like), `t` in [0, 1], as sRGB.
 fn ramp(t: f32) -> Vec3 {
     const STOPS: [[f32; 3]; 6] = [
-        [0.0, 0.0, 0.02],
+        [0.0, 0.0, 0.0],
         [0.26, 0.04, 0.41],
         [0.58, 0.15, 0.40],
         [0.87, 0.32, 0.23],
