@@ -47,7 +47,7 @@ fn grid_cells_view_colours_occupied_cells_and_needs_a_grid() {
     assert!(img.get(16, 16).max_element() > 0.01, "centre: {}", img.get(16, 16));
     assert_eq!(img.get(0, 0), Vec3::ZERO);
     let mut app = app_from_ron(SQUARE, with("debug(mode: grid_cells)", AccelKind::Bvh, 8));
-    let err = app.run().err().expect("grid_cells without a grid").to_string();
+    let err = app.run().expect_err("grid_cells without a grid").to_string();
     assert!(err.contains("--accel grid"), "{err}");
 }
 
