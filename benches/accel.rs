@@ -1,44 +1,51 @@
-//! Accelerator benchmarks on the Stanford bunny (69k triangles, `../shared/data/meshes/stanford-bunny.obj`):
-//! - build: Prism's BVH (obvhs CWBVH over primitive bounds, plus leaf-order copies) vs raw obvhs
-//!   `build_cwbvh_from_tris`;
-//! - closest hit, one thread, the same rays: Prism's accelerator path (`Accel::intersect`: watertight triangles,
-//!   barycentrics, spheres allowed) vs raw obvhs traversal with its own Möller–Trumbore triangles in leaf order.
-//!   Camera rays (coherent) and random rays (incoherent). Throughput is in rays.
+//! Accelerator benchmarks (`cargo bench --bench accel`), one thread:
+//! - `raw_obvhs`: Prism's BVH path vs raw obvhs on the Stanford bunny (69k triangles): build, and closest hit
+//!   for camera and random rays (Prism adds watertight triangles, barycentrics, spheres allowed). The ratio
+//!   prism/raw is the quantity to watch (target >= 0.9).
+//! - `build/<scene>`, `closest/<scene>`, `bounce/<scene>`, `occlusion/<scene>`: build time, and closest-hit
+//!   Mrays/s for camera rays (128 x 128 pixel centres) and diffuse-bounce rays, and occlusion Mrays/s for shadow
+//!   rays (`prism::accel::ray_sets`) for the grid (automatic resolution), the kd-tree and the BVH, plus brute
+//!   force on at most 1000 primitives, over the 6.837 bunnies (200, 1k, 5k, 40k triangles), the Stanford bunny
+//!   (69k), the dragon (100k) and the teapot in a stadium (the teapot inside a box 10^4 times larger).
 //!
-//! `cargo bench --bench accel`; the ratio prism/raw is the quantity to watch (target >= 0.9).
+//! Filter with criterion's usual argument, e.g. `cargo bench --bench accel -- closest/dragon`.
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use glam::{Vec2, Vec3A};
 use obvhs::{BvhBuildParams, ray::RayHit, triangle::Triangle};
+use prism::accel::Accel;
+use prism::accel::ray_sets::{camera_rays, secondary_rays};
 use prism::app::{App, SceneSource};
 use prism::camera::CameraRig;
 use prism::components::{Camera, Projection};
 use prism::geometry::Ray;
 use prism::sampling::{Rng, warp};
 use prism::scene::Scene;
-use prism::settings::{AccelKind, Overrides};
+use prism::settings::{AccelKind, GridResolution, Overrides};
 use std::hint::black_box;
 use std::path::PathBuf;
 use std::time::Duration;
 
-fn bunny_path() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/data/meshes/stanford-bunny.obj")
+fn data(rel: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/data").join(rel)
 }
 
-fn load_bunny(kind: AccelKind) -> App {
+fn load(source: SceneSource, kind: AccelKind) -> App {
     let mut app = App::with_default_plugins();
-    app.resources.source = SceneSource::RonText {
-        text: format!("(camera: (), entities: [(shape: Mesh(path: \"{}\"))])", bunny_path().display()),
-        name: "bench.ron".into(),
-        base_dir: ".".into(),
-    };
+    app.resources.source = source;
     app.resources.overrides = Overrides { accel: Some(kind), ..Default::default() };
-    app.setup().expect("load the Stanford bunny");
+    app.setup().expect("load the benchmark scene");
     app
 }
 
+fn load_bunny(kind: AccelKind) -> App {
+    let text =
+        format!("(camera: (), entities: [(shape: Mesh(path: \"{}\"))])", data("meshes/stanford-bunny.obj").display());
+    load(SceneSource::RonText { text, name: "bench.ron".into(), base_dir: ".".into() }, kind)
+}
+
 /// 256x256 camera rays framing the bunny, and as many random rays through its bounds.
-fn ray_sets(scene: &Scene) -> (Vec<Ray>, Vec<Ray>) {
+fn raw_ray_sets(scene: &Scene) -> (Vec<Ray>, Vec<Ray>) {
     let b = scene.prims.bounds;
     let c = b.center();
     let r = b.diagonal().length() * 0.5;
@@ -68,9 +75,10 @@ fn ray_sets(scene: &Scene) -> (Vec<Ray>, Vec<Ray>) {
     (camera, random)
 }
 
-fn bench_bunny(c: &mut Criterion) {
-    if !bunny_path().is_file() {
-        eprintln!("skipping: {} not found", bunny_path().display());
+/// Prism's BVH against raw obvhs on the Stanford bunny.
+fn bench_raw_obvhs(c: &mut Criterion) {
+    if !data("meshes/stanford-bunny.obj").is_file() {
+        eprintln!("skipping: the Stanford bunny is not in ../shared/data");
         return;
     }
     let app = load_bunny(AccelKind::Bvh);
@@ -78,11 +86,9 @@ fn bench_bunny(c: &mut Criterion) {
     let prims = &scene.prims;
     let tris: Vec<Triangle> = prims.tris.iter().map(|t| Triangle { v0: t[0], v1: t[1], v2: t[2] }).collect();
 
-    let mut g = c.benchmark_group("bunny_build");
+    let mut g = c.benchmark_group("raw_obvhs/bunny_build");
     g.sample_size(10).measurement_time(Duration::from_secs(10));
-    g.bench_function("prism_bvh", |b| {
-        b.iter(|| black_box(prism::accel::Accel::build(AccelKind::Bvh, black_box(prims)).unwrap()))
-    });
+    g.bench_function("prism_bvh", |b| b.iter(|| black_box(Accel::build(AccelKind::Bvh, black_box(prims)).unwrap())));
     g.bench_function("raw_obvhs", |b| {
         b.iter(|| {
             black_box(obvhs::cwbvh::builder::build_cwbvh_from_tris(
@@ -99,9 +105,9 @@ fn bench_bunny(c: &mut Criterion) {
         obvhs::cwbvh::builder::build_cwbvh_from_tris(&tris, BvhBuildParams::medium_build(), &mut Duration::default());
     let raw_tris: Vec<Triangle> = raw.primitive_indices.iter().map(|&i| tris[i as usize]).collect();
 
-    let (camera, random) = ray_sets(scene);
+    let (camera, random) = raw_ray_sets(scene);
     for (name, rays) in [("camera", &camera), ("random", &random)] {
-        let mut g = c.benchmark_group(format!("bunny_closest_hit_{name}"));
+        let mut g = c.benchmark_group(format!("raw_obvhs/bunny_closest_hit_{name}"));
         g.throughput(Throughput::Elements(rays.len() as u64)).sample_size(20).measurement_time(Duration::from_secs(8));
         g.bench_with_input(BenchmarkId::new("prism_bvh", rays.len()), rays, |b, rays| {
             b.iter(|| {
@@ -127,5 +133,79 @@ fn bench_bunny(c: &mut Criterion) {
     }
 }
 
-criterion_group!(benches, bench_bunny);
+/// The benchmark scenes: name and how to load them.
+fn scenes() -> Vec<(&'static str, SceneSource)> {
+    let file = |rel: &str| SceneSource::File(data(rel));
+    let stadium = format!(
+        "(camera: (eye: (0, 3, 12), target: (0, 1, 0)), entities: [(shape: Mesh(path: \"{}\")), (shape: Cube, \
+         transform: [UniformScale(30000)])])",
+        data("meshes/teapot.obj").display()
+    );
+    vec![
+        ("bunny_200", file("mit6837/assignment5/bunny_200.obj")),
+        ("bunny_1k", file("mit6837/assignment5/bunny_1k.obj")),
+        ("bunny_5k", file("mit6837/assignment5/bunny_5k.obj")),
+        ("bunny_40k", file("mit6837/assignment5/bunny_40k.obj")),
+        ("stanford_bunny", file("meshes/stanford-bunny.obj")),
+        ("dragon", file("meshes/dragon_100k.obj")),
+        ("teapot_in_stadium", SceneSource::RonText { text: stadium, name: "stadium.ron".into(), base_dir: ".".into() }),
+    ]
+}
+
+const KINDS: [AccelKind; 4] =
+    [AccelKind::Grid(GridResolution::Auto), AccelKind::KdTree, AccelKind::Bvh, AccelKind::Brute];
+
+/// Grid, kd-tree, BVH (and brute force on small scenes): build and traversal.
+fn bench_accelerators(c: &mut Criterion) {
+    for (name, source) in scenes() {
+        let path_ok = match &source {
+            SceneSource::File(p) => p.is_file(),
+            _ => data("meshes/teapot.obj").is_file(),
+        };
+        if !path_ok {
+            eprintln!("skipping {name}: not in ../shared/data");
+            continue;
+        }
+        let app = load(source, AccelKind::Bvh);
+        let scene = app.resources.scene.as_ref().unwrap();
+        let prims = &scene.prims;
+        let n = prims.num_bounded();
+        let camera = camera_rays(scene, 128, 128);
+        let (bounce, shadow) = secondary_rays(scene, &camera, 1);
+        let kinds: Vec<AccelKind> = KINDS.into_iter().filter(|k| *k != AccelKind::Brute || n <= 1000).collect();
+
+        let mut g = c.benchmark_group(format!("build/{name}"));
+        g.sample_size(10).measurement_time(Duration::from_secs(4));
+        for kind in kinds.iter().filter(|k| **k != AccelKind::Brute) {
+            g.bench_function(kind.name(), |b| b.iter(|| black_box(Accel::build(*kind, black_box(prims)).unwrap())));
+        }
+        g.finish();
+
+        let built: Vec<(AccelKind, Accel)> = kinds.iter().map(|&k| (k, Accel::build(k, prims).unwrap())).collect();
+        for (query, rays) in [("closest", &camera), ("bounce", &bounce), ("occlusion", &shadow)] {
+            let mut g = c.benchmark_group(format!("{query}/{name}"));
+            g.throughput(Throughput::Elements(rays.len() as u64))
+                .sample_size(10)
+                .measurement_time(Duration::from_secs(3));
+            for (kind, accel) in &built {
+                g.bench_with_input(BenchmarkId::new(kind.name(), rays.len()), rays, |b, rays| {
+                    b.iter(|| {
+                        let mut hits = 0u32;
+                        for r in rays.iter() {
+                            hits += if query == "occlusion" {
+                                accel.occluded(prims, r)
+                            } else {
+                                accel.intersect(prims, r).is_some()
+                            } as u32;
+                        }
+                        black_box(hits)
+                    })
+                });
+            }
+            g.finish();
+        }
+    }
+}
+
+criterion_group!(benches, bench_raw_obvhs, bench_accelerators);
 criterion_main!(benches);

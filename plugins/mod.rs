@@ -2,6 +2,7 @@
 //! built in) but use only the public API an external crate could use: `Plugin`, `App::register_integrator`,
 //! `PixelIntegrator`/`PerPixel` and the render `Scene`.
 
+pub mod debug;
 pub mod envlight;
 pub mod phong;
 
@@ -11,4 +12,5 @@ use crate::app::App;
 pub fn add_builtin_plugins(app: &mut App) {
     app.add_plugin(phong::PhongPlugin);
     app.add_plugin(envlight::EnvlightPlugin);
+    app.add_plugin(debug::DebugPlugin);
 }

@@ -52,8 +52,9 @@ pub struct MaterialId(pub u32);
 /// light, `radiance` in W/(m^2 sr).
 #[derive(Clone, Debug)]
 pub enum Light {
-    /// An isotropic point light at `position` (local frame).
-    Point { intensity: Vec3, position: Vec3 },
+    /// An isotropic point light at `position` (local frame); irradiance `intensity cos / (a0 + a1 d + a2 d^2)`
+    /// with `attenuation = (a0, a1, a2)`, `(0, 0, 1)` for a physical light.
+    Point { intensity: Vec3, position: Vec3, attenuation: Vec3 },
     /// A distant light; `direction` is the direction the light travels (local frame).
     Directional { irradiance: Vec3, direction: Vec3 },
     /// The entity's shape emits `radiance` from its front side (the side of its normal), or both sides.

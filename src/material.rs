@@ -27,6 +27,21 @@ pub struct Material {
     pub ior: f32,
     /// Shade both faces (the shading normal is flipped towards the viewer). One-sided materials are black from behind.
     pub two_sided: bool,
+    /// Physically based (default) or the 6.837 course's shading.
+    pub shading: Shading,
+}
+
+/// How a material's terms are evaluated.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Shading {
+    /// As above: energy-normalised Phong lobe, Fresnel-weighted dielectric.
+    #[default]
+    Physical,
+    /// The 6.837 course's conventions, for its scenes: radiance `kd c cos + ks (n.h)^e c` per light of colour `c`
+    /// (Blinn-Phong half vector, no normalisation, no cosine on the specular term), mirror and refraction without
+    /// Fresnel (refracted radiance is `transparent` times the radiance behind, nothing under total internal
+    /// reflection).
+    Mit6837,
 }
 
 impl Default for Material {
@@ -48,6 +63,7 @@ impl Material {
             transparent: Vec3::ZERO,
             ior: 1.5,
             two_sided: true,
+            shading: Shading::Physical,
         }
     }
 
@@ -76,6 +92,17 @@ impl Material {
             return Vec3::ZERO;
         }
         let mut f = self.diffuse * FRAC_1_PI;
+        if self.shading == Shading::Mit6837 {
+            // The course adds ks (n.h)^e times the light colour; the integrator multiplies f by the irradiance
+            // (pi times that colour) and the cosine, so divide both out.
+            if self.specular != Vec3::ZERO {
+                let cos_h = (wo + wi).normalize_or_zero().dot(n);
+                if cos_h > 0.0 {
+                    f += self.specular * (cos_h.powf(self.exponent) * FRAC_1_PI / cos_i);
+                }
+            }
+            return f;
+        }
         if self.specular != Vec3::ZERO {
             let cos_alpha = reflect(wo, n).dot(wi);
             if cos_alpha > 0.0 {

@@ -66,15 +66,32 @@ impl PluginConfig {
 /// Which accelerator to build over the scene's bounded primitives.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum AccelKind {
+    /// Compressed 8-wide BVH via obvhs (the default).
     #[default]
     Bvh,
+    /// SAH kd-tree (`src/accel/kdtree.rs`).
+    KdTree,
+    /// Uniform grid with the given resolution (`src/accel/grid.rs`).
+    Grid(GridResolution),
+    /// Test every primitive: the ground truth.
     Brute,
 }
 
+/// Cells of a uniform grid along x, y and z, or chosen from the primitive count and the scene bounds.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum GridResolution {
+    #[default]
+    Auto,
+    Fixed([u32; 3]),
+}
+
 impl AccelKind {
+    /// `bvh`, `kdtree`, `grid` (automatic resolution) or `brute`.
     pub fn parse(s: &str) -> Option<Self> {
         match s {
             "bvh" => Some(Self::Bvh),
+            "kdtree" => Some(Self::KdTree),
+            "grid" => Some(Self::Grid(GridResolution::Auto)),
             "brute" => Some(Self::Brute),
             _ => None,
         }
@@ -83,11 +100,18 @@ impl AccelKind {
     pub fn name(&self) -> &'static str {
         match self {
             Self::Bvh => "bvh",
+            Self::KdTree => "kdtree",
+            Self::Grid(_) => "grid",
             Self::Brute => "brute",
         }
     }
 
-    pub const ALL: [AccelKind; 2] = [AccelKind::Bvh, AccelKind::Brute];
+    /// Every accelerator (the grid with automatic resolution).
+    pub const ALL: [AccelKind; 4] =
+        [AccelKind::Bvh, AccelKind::KdTree, AccelKind::Grid(GridResolution::Auto), AccelKind::Brute];
+
+    /// The names `parse` accepts, for messages.
+    pub const NAMES: &'static str = "bvh, kdtree, grid or brute";
 }
 
 /// The resolved settings of one render.

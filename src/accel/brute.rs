@@ -1,5 +1,6 @@
 //! Brute force: test every bounded primitive. The ground truth the other accelerators are checked against.
 
+use super::work::TraversalWork;
 use super::{AccelStats, Accelerator};
 use crate::geometry::{Ray, WatertightRay};
 use crate::primitives::{Hit, Primitives};
@@ -33,7 +34,12 @@ impl Accelerator for BruteForce {
         (0..self.count).any(|id| prims.intersect_bounded(id, ray, &wt).is_some())
     }
 
+    fn intersect_counted(&self, prims: &Primitives, ray: &Ray, work: &mut TraversalWork) -> Option<Hit> {
+        work.prims += self.count;
+        self.intersect(prims, ray)
+    }
+
     fn stats(&self) -> AccelStats {
-        AccelStats { kind: "brute", ..Default::default() }
+        AccelStats { kind: "brute", detail: format!("{} primitives", self.count), ..Default::default() }
     }
 }

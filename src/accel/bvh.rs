@@ -3,10 +3,11 @@
 //! BVH leaf order (`slot_tris`, `slot_ids`) so traversal reads triangles sequentially; obvhs hands the traversal
 //! closure a slot, never our primitive id.
 
+use super::work::TraversalWork;
 use super::{AccelStats, Accelerator};
 use crate::geometry::{Ray, WatertightRay};
 use crate::primitives::{Hit, Primitives};
-use glam::Vec3A;
+use glam::{UVec2, Vec3A};
 use obvhs::{BvhBuildParams, aabb::Aabb, cwbvh::CwBvh, ray::RayHit};
 use std::time::Duration;
 
@@ -25,10 +26,14 @@ pub struct BvhAccel {
 impl BvhAccel {
     pub fn build(prims: &Primitives) -> Self {
         let n = prims.num_bounded();
+        // Boxes grown by a few ulps: a flat box gets a thickness, and an axis-parallel ray through a vertex
+        // coordinate never lies exactly on a box face, where obvhs's slab test computes 0 * inf = NaN and misses.
         let aabbs: Vec<Aabb> = (0..n)
             .map(|i| {
                 let b = prims.prim_bounds(i);
-                Aabb::new(b.min, b.max)
+                let pad = 4.0 * f32::EPSILON * b.min.abs().max(b.max.abs())
+                    + Vec3A::splat(1e-6 * b.diagonal().max_element() + f32::MIN_POSITIVE);
+                Aabb::new(b.min - pad, b.max + pad)
             })
             .collect();
         let bvh = if aabbs.is_empty() {
@@ -67,9 +72,24 @@ impl BvhAccel {
     }
 }
 
+/// The obvhs ray, made robust for axis-parallel rays:
+/// - negative zero direction components become +0: obvhs picks the slab ends by `d < 0` but the reciprocal's
+///   sign (and the octant) by the sign bit, so a -0 component swapped a slab and the ray missed everything;
+/// - a (near-)zero component gets the reciprocal 1e25 instead of obvhs's 1/EPSILON = 8.4e6, which let a
+///   parallel ray drift 1.2e-7 per unit length out of a box it runs along (missing hits beyond a few units);
+///   1e25 keeps node tests finite for scenes up to 1e13 units.
 #[inline(always)]
 fn to_obvhs(ray: &Ray) -> obvhs::ray::Ray {
-    obvhs::ray::Ray::new(ray.origin, ray.dir, 0.0, ray.tmax)
+    const BIG: f32 = 1e25;
+    let direction = ray.dir + Vec3A::ZERO;
+    let inv = |d: f32| if d.abs() * BIG > 1.0 { 1.0 / d } else { BIG.copysign(d) };
+    obvhs::ray::Ray {
+        origin: ray.origin,
+        direction,
+        inv_direction: Vec3A::new(inv(direction.x), inv(direction.y), inv(direction.z)),
+        tmin: 0.0,
+        tmax: ray.tmax,
+    }
 }
 
 impl Accelerator for BvhAccel {
@@ -126,9 +146,42 @@ impl Accelerator for BvhAccel {
         })
     }
 
+    /// The general closest-hit path through obvhs's `traverse!` macro, counting node tests and primitive tests.
+    fn intersect_counted(&self, prims: &Primitives, ray: &Ray, work: &mut TraversalWork) -> Option<Hit> {
+        if self.slot_ids.is_empty() {
+            return None;
+        }
+        let wt = WatertightRay::new(ray);
+        let mut traverse_ray = to_obvhs(ray);
+        let mut best: Option<Hit> = None;
+        let mut state = self.bvh.new_traversal(traverse_ray.direction);
+        let mut node;
+        obvhs::traverse!(
+            self.bvh,
+            node,
+            state,
+            {
+                work.nodes += 1;
+                node.intersect_ray(&traverse_ray, state.oct_inv4)
+            },
+            {
+                work.prims += 1;
+                let cur = Ray { tmax: traverse_ray.tmax, ..*ray };
+                if let Some(h) = self.hit_slot(prims, state.primitive_id as usize, &cur, &wt)
+                    && h.t < traverse_ray.tmax
+                {
+                    traverse_ray.tmax = h.t;
+                    best = Some(h);
+                }
+            }
+        );
+        best
+    }
+
     fn stats(&self) -> AccelStats {
         AccelStats {
             kind: "bvh",
+            detail: format!("{} CWBVH nodes, {} leaf slots", self.bvh.nodes.len(), self.slot_ids.len()),
             build_time: self.build_time,
             memory_bytes: self.bvh.nodes.len() * std::mem::size_of::<obvhs::cwbvh::node::CwBvhNode>()
                 + self.slot_ids.len() * (4 + std::mem::size_of::<[Vec3A; 3]>()),

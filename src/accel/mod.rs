@@ -1,15 +1,36 @@
 //! Accelerators over the scene's bounded primitives (triangles and spheres; planes are kept aside by [`Scene`]).
 //! Every accelerator answers the same two queries, closest hit and occlusion, with identical results up to exact
-//! ties (cross-checked against brute force in `tests/accel.rs`). [`Accel`] is an enum, so the per-ray dispatch is a
-//! predictable `match`, not a virtual call.
+//! ties (cross-checked against brute force in `tests/accel.rs`), plus a counted closest-hit query that reports the
+//! traversal work of one ray for heat maps. [`Accel`] is an enum, so the per-ray dispatch is a predictable
+//! `match`, not a virtual call.
+//!
+//! | accelerator | file | build |
+//! |---|---|---|
+//! | BVH (obvhs CWBVH) | `bvh.rs` | PLOC, parallel |
+//! | SAH kd-tree | `kdtree.rs`, `kdtree_build.rs` | Wald & Havran O(N log N), perfect splits |
+//! | uniform grid | `grid.rs` | per-cell triangle/box overlap, nested grids for crowded cells |
+//! | brute force | `brute.rs` | none |
 //!
 //! [`Scene`]: crate::scene::Scene
 
 mod brute;
 mod bvh;
+mod clip;
+pub mod grid;
+pub mod kdtree;
+mod kdtree_build;
+mod mailbox;
+pub mod ray_sets;
+mod tri_box;
+mod triangle_clip;
+mod work;
 
 pub use brute::BruteForce;
 pub use bvh::BvhAccel;
+pub use grid::{CellHit, GridCell, UniformGrid};
+pub use kdtree::{KdParams, KdTree};
+pub use tri_box::triangle_overlaps_box;
+pub use work::{NoCount, TraversalWork, WorkCounter};
 
 use crate::error::Result;
 use crate::geometry::Ray;
@@ -26,26 +47,45 @@ pub struct AccelStats {
     pub memory_bytes: usize,
     /// Nodes (BVH, kd-tree) or cells (grid).
     pub nodes: usize,
+    /// A one-line description (resolution, depth, references per primitive ...).
+    pub detail: String,
 }
 
 /// The interface every accelerator implements.
 pub trait Accelerator: Send + Sync {
     fn intersect(&self, prims: &Primitives, ray: &Ray) -> Option<Hit>;
     fn occluded(&self, prims: &Primitives, ray: &Ray) -> bool;
+    /// `intersect`, adding the nodes/cells visited and primitives tested to `work` (slower; for heat maps).
+    fn intersect_counted(&self, prims: &Primitives, ray: &Ray, work: &mut TraversalWork) -> Option<Hit>;
     fn stats(&self) -> AccelStats;
 }
 
 pub enum Accel {
     Bvh(BvhAccel),
+    KdTree(KdTree),
+    Grid(UniformGrid),
     Brute(BruteForce),
 }
 
+macro_rules! dispatch {
+    ($self:expr, $a:ident => $e:expr) => {
+        match $self {
+            Accel::Bvh($a) => $e,
+            Accel::KdTree($a) => $e,
+            Accel::Grid($a) => $e,
+            Accel::Brute($a) => $e,
+        }
+    };
+}
+
 impl Accel {
-    /// Build the accelerator of the given kind over `prims`.
+    /// Build the accelerator of the given kind over `prims`. Fails only on bad grid resolutions.
     pub fn build(kind: AccelKind, prims: &Primitives) -> Result<Accel> {
         let start = Instant::now();
         let mut accel = match kind {
             AccelKind::Bvh => Accel::Bvh(BvhAccel::build(prims)),
+            AccelKind::KdTree => Accel::KdTree(KdTree::build(prims)),
+            AccelKind::Grid(res) => Accel::Grid(UniformGrid::build(prims, res)?),
             AccelKind::Brute => Accel::Brute(BruteForce::build(prims)),
         };
         accel.set_build_time(start.elapsed());
@@ -55,30 +95,36 @@ impl Accel {
     fn set_build_time(&mut self, d: Duration) {
         match self {
             Accel::Bvh(a) => a.build_time = d,
+            Accel::KdTree(a) => a.build_time = d,
+            Accel::Grid(a) => a.build_time = d,
             Accel::Brute(_) => {}
         }
     }
 
     #[inline]
     pub fn intersect(&self, prims: &Primitives, ray: &Ray) -> Option<Hit> {
-        match self {
-            Accel::Bvh(a) => a.intersect(prims, ray),
-            Accel::Brute(a) => a.intersect(prims, ray),
-        }
+        dispatch!(self, a => a.intersect(prims, ray))
     }
 
     #[inline]
     pub fn occluded(&self, prims: &Primitives, ray: &Ray) -> bool {
-        match self {
-            Accel::Bvh(a) => a.occluded(prims, ray),
-            Accel::Brute(a) => a.occluded(prims, ray),
-        }
+        dispatch!(self, a => a.occluded(prims, ray))
+    }
+
+    /// Closest hit, counting the traversal work into `work`.
+    pub fn intersect_counted(&self, prims: &Primitives, ray: &Ray, work: &mut TraversalWork) -> Option<Hit> {
+        dispatch!(self, a => a.intersect_counted(prims, ray, work))
     }
 
     pub fn stats(&self) -> AccelStats {
+        dispatch!(self, a => a.stats())
+    }
+
+    /// The uniform grid, if this is one (for the grid visualisation).
+    pub fn as_grid(&self) -> Option<&UniformGrid> {
         match self {
-            Accel::Bvh(a) => a.stats(),
-            Accel::Brute(a) => a.stats(),
+            Accel::Grid(g) => Some(g),
+            _ => None,
         }
     }
 }

@@ -1,7 +1,11 @@
-//! The `prism` command line (clap), per DESIGN section 3: `render`, `compare`, `converge`.
+//! The `prism` command line (clap), per DESIGN section 3: `render`, `compare`, `converge`, `bench` and `convert`,
+//! plus `raytracer` (6.837 course command lines).
 
+mod bench_cmd;
 mod compare_cmd;
 mod converge_cmd;
+mod convert_cmd;
+mod raytracer_cmd;
 mod render_cmd;
 
 use clap::{Parser, Subcommand};
@@ -16,10 +20,16 @@ pub struct Cli {
 
 #[derive(Subcommand, Debug)]
 pub enum Command {
-    /// Render a scene (.ron or .obj) to PNG and/or EXR.
+    /// Render a scene (.ron, .obj or 6.837 .txt) to PNG and/or EXR.
     Render(render_cmd::RenderArgs),
     /// Error against a reference as the budget grows: CSV and charts, one curve per integrator.
     Converge(converge_cmd::ConvergeArgs),
+    /// Benchmark accelerators on scenes: build time, memory, nodes, Mrays/s (table and chart).
+    Bench(bench_cmd::BenchArgs),
+    /// Convert a 6.837 scene (.txt) to a Prism RON scene.
+    Convert(convert_cmd::ConvertArgs),
+    /// Run a 6.837 course command line (`-input scene.txt -size 200 200 -output out.tga -grid 5 5 5 ...`).
+    Raytracer(raytracer_cmd::RaytracerArgs),
     /// Compare an image with a reference: RMSE, relMSE, mean absolute error.
     Compare {
         /// The image to test (.exr or .png).
@@ -37,6 +47,9 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Command::Render(args) => render_cmd::run(args),
         Command::Converge(args) => converge_cmd::run(args),
+        Command::Bench(args) => bench_cmd::run(args),
+        Command::Convert(args) => convert_cmd::run(args),
+        Command::Raytracer(args) => raytracer_cmd::run(args),
         Command::Compare { test, reference, json } => compare_cmd::run(&test, &reference, json),
     }
 }

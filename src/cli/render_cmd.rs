@@ -5,7 +5,7 @@
 use crate::app::{App, SceneSource};
 use crate::error::PrismError;
 use crate::sampling::PixelPattern;
-use crate::settings::{AccelKind, Overrides};
+use crate::settings::{AccelKind, GridResolution, Overrides};
 use clap::Args;
 use std::io::IsTerminal;
 use std::path::PathBuf;
@@ -20,12 +20,16 @@ pub struct RenderArgs {
     /// Output image(s); .png (sRGB) or .exr (linear). Repeat for several. Default: SCENE-NAME.png.
     #[arg(short, long = "output")]
     pub output: Vec<PathBuf>,
-    /// Integrator plugin, `name` or `name(param: value, ...)`, e.g. `envlight(max_depth: 2)`.
+    /// Integrator plugin, `name` or `name(param: value, ...)`, e.g. `envlight(max_depth: 2)` or
+    /// `'debug(mode: grid_cells)'`.
     #[arg(long)]
     pub integrator: Option<String>,
-    /// Accelerator: bvh or brute.
+    /// Accelerator: bvh, kdtree, grid or brute.
     #[arg(long, value_parser = parse_accel)]
     pub accel: Option<AccelKind>,
+    /// Uniform grid resolution NX NY NZ (implies --accel grid).
+    #[arg(long, num_args = 3, value_names = ["NX", "NY", "NZ"])]
+    pub grid: Option<Vec<u32>>,
     /// Total samples per pixel.
     #[arg(long)]
     pub spp: Option<u32>,
@@ -57,8 +61,23 @@ pub struct RenderArgs {
     pub quiet: bool,
 }
 
-fn parse_accel(s: &str) -> Result<AccelKind, String> {
-    AccelKind::parse(s).ok_or_else(|| format!("unknown accelerator '{s}' (expected bvh or brute)"))
+pub(super) fn parse_accel(s: &str) -> Result<AccelKind, String> {
+    AccelKind::parse(s).ok_or_else(|| format!("unknown accelerator '{s}' (expected {})", AccelKind::NAMES))
+}
+
+/// `--accel` and `--grid` together: `--grid` alone means the grid; with another accelerator it is an error.
+pub(super) fn accel_override(accel: Option<AccelKind>, grid: Option<&[u32]>) -> Result<Option<AccelKind>, PrismError> {
+    let Some(g) = grid else {
+        return Ok(accel);
+    };
+    crate::accel::grid::check_resolution([g[0], g[1], g[2]])?;
+    let res = GridResolution::Fixed([g[0], g[1], g[2]]);
+    match accel {
+        None | Some(AccelKind::Grid(_)) => Ok(Some(AccelKind::Grid(res))),
+        Some(other) => {
+            Err(PrismError::invalid(format!("--grid sets a grid resolution but --accel is {}", other.name())))
+        }
+    }
 }
 
 fn parse_pattern(s: &str) -> Result<PixelPattern, String> {
@@ -124,7 +143,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
         time_budget: args.time,
         spp_unlimited: args.time.is_some(),
         integrator: args.integrator.clone(),
-        accel: args.accel,
+        accel: accel_override(args.accel, args.grid.as_deref())?,
         exposure: args.exposure,
     };
     r.outputs = outputs.clone();

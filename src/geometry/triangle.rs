@@ -3,9 +3,10 @@
 //! The ray is turned once into a shear-and-permute map that sends its direction to +z; each triangle's vertices
 //! are mapped by it and the 2D edge functions decide the hit. An edge shared by two triangles yields exactly
 //! negated edge functions in both, so a ray through a shared edge or vertex hits at least one of them: no cracks.
-//! Edge functions that come out exactly zero are recomputed in f64, as the paper prescribes.
+//! Edge functions that come out exactly zero are recomputed in f64, as the paper prescribes. Hits closer than the
+//! rounding error of t are rejected (pbrt-v4's conservative t bound), so rays leaving a surface never re-hit it.
 
-use super::Ray;
+use super::{Ray, gamma};
 use glam::{Mat3A, Vec3A};
 
 /// Per-ray precomputation: origin and the shear/permutation matrix.
@@ -87,6 +88,21 @@ impl WatertightRay {
             return None;
         }
         let inv = 1.0 / det;
-        Some(TriangleHit { t: t_scaled * inv, b0: u * inv, b1: v * inv, b2: w * inv })
+        let t = t_scaled * inv;
+        // Reject t within its rounding error of 0 (pbrt-v4 section 6.8.4): a ray that starts exactly on the
+        // triangle's plane (an exactly representable surface point, whose spawn offset is 0) must not re-hit it.
+        let max_zt = a.z.abs().max(b.z.abs()).max(c.z.abs());
+        let max_xt = a.x.abs().max(b.x.abs()).max(c.x.abs());
+        let max_yt = a.y.abs().max(b.y.abs()).max(c.y.abs());
+        let delta_z = gamma(3) * max_zt;
+        let delta_x = gamma(5) * (max_xt + max_zt);
+        let delta_y = gamma(5) * (max_yt + max_zt);
+        let delta_e = 2.0 * (gamma(2) * max_xt * max_yt + delta_y * max_xt + delta_x * max_yt);
+        let max_e = u.abs().max(v.abs()).max(w.abs());
+        let delta_t = 3.0 * (gamma(3) * max_e * max_zt + delta_e * max_zt + delta_z * max_e) * inv.abs();
+        if t <= delta_t {
+            return None;
+        }
+        Some(TriangleHit { t, b0: u * inv, b1: v * inv, b2: w * inv })
     }
 }

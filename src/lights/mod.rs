@@ -42,9 +42,11 @@ pub struct LightSample {
 #[derive(Clone, Debug)]
 pub enum LightSource {
     Area(AreaLight),
+    /// Irradiance `intensity cos / (a0 + a1 d + a2 d^2)`, `attenuation = (a0, a1, a2)`.
     Point {
         position: Vec3A,
         intensity: Vec3,
+        attenuation: Vec3,
     },
     /// `to_light` is the unit direction towards the light (opposite to the direction it travels).
     Directional {
@@ -80,9 +82,10 @@ impl LightSet {
         for (entity, light, wfl) in others {
             let m = wfl.map(|w| w.0).unwrap_or_default();
             match light {
-                Light::Point { intensity, position } => lights.push(LightSource::Point {
+                Light::Point { intensity, position, attenuation } => lights.push(LightSource::Point {
                     position: m.transform_point3a((*position).into()),
                     intensity: *intensity,
+                    attenuation: *attenuation,
                 }),
                 Light::Environment { radiance, map } => {
                     if environment.is_some() {
@@ -129,20 +132,25 @@ impl LightSet {
     pub fn sample(&self, i: usize, prims: &Primitives, p: Vec3A, u: Vec2) -> Option<LightSample> {
         match &self.lights[i] {
             LightSource::Area(a) => a.sample(prims, p, u),
-            LightSource::Point { position, intensity } => {
+            LightSource::Point { position, intensity, attenuation } => {
                 let d = *position - p;
                 let dist2 = d.length_squared();
                 if dist2 == 0.0 {
                     return None;
                 }
                 let dist = dist2.sqrt();
+                let falloff = if *attenuation == Vec3::Z {
+                    dist2
+                } else {
+                    attenuation.x + attenuation.y * dist + attenuation.z * dist2
+                };
                 Some(LightSample {
                     p: *position,
                     p_err: Vec3A::ZERO,
                     n: Vec3A::ZERO,
                     wi: d / dist,
                     dist,
-                    li: *intensity / dist2,
+                    li: *intensity / falloff,
                     pdf: 1.0,
                     delta: true,
                 })

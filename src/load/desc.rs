@@ -28,6 +28,9 @@ fn up() -> V3 {
 fn down() -> V3 {
     [0.0, -1.0, 0.0]
 }
+fn inverse_square() -> V3 {
+    [0.0, 0.0, 1.0]
+}
 fn default_eye() -> V3 {
     [0.0, 0.0, 5.0]
 }
@@ -65,8 +68,12 @@ pub struct RenderDesc<'a> {
     /// `name` or `name(param: value, ...)`; the plugin owns the parameters.
     #[serde(default, borrow)]
     pub integrator: Option<&'a RawValue>,
+    /// `bvh` (default), `kdtree`, `grid` or `brute`.
     #[serde(default)]
     pub accel: Option<AccelDesc>,
+    /// Grid cells along x, y, z (implies `accel: grid`); automatic when absent.
+    #[serde(default)]
+    pub grid: Option<[u32; 3]>,
     /// Samples per pixel in total.
     #[serde(default)]
     pub spp: Option<u32>,
@@ -89,6 +96,8 @@ pub struct RenderDesc<'a> {
 #[serde(rename_all = "lowercase", deny_unknown_fields)]
 pub enum AccelDesc {
     Bvh,
+    Kdtree,
+    Grid,
     Brute,
 }
 
@@ -152,6 +161,25 @@ pub enum MaterialDesc {
         ior: f32,
         #[serde(default = "one3")]
         transmittance: V3,
+    },
+    /// A 6.837 course material (`Material`/`PhongMaterial`) with the course's non-physical shading: ambient
+    /// reflectance = `diffuse`, Blinn-Phong specular `specular (n.h)^exponent` without energy normalisation,
+    /// mirror (`reflective`) and refraction (`transparent`, index `ior`) without Fresnel.
+    Mit6837 {
+        #[serde(default = "one3")]
+        diffuse: V3,
+        #[serde(default)]
+        specular: V3,
+        #[serde(default = "unit")]
+        exponent: f32,
+        #[serde(default)]
+        reflective: V3,
+        #[serde(default)]
+        transparent: V3,
+        #[serde(default = "unit")]
+        ior: f32,
+        #[serde(default = "yes")]
+        two_sided: bool,
     },
     /// A black surface that emits `radiance`: the entity becomes an area light.
     Emissive {
@@ -241,11 +269,14 @@ pub enum ShapeDesc {
 #[derive(Deserialize, Debug, Clone)]
 #[serde(deny_unknown_fields)]
 pub enum LightDesc {
-    /// Isotropic point light; `intensity` in W/sr.
+    /// Isotropic point light; `intensity` in W/sr. Irradiance `I cos / (a0 + a1 d + a2 d^2)` with
+    /// `attenuation: (a0, a1, a2)`, physically `(0, 0, 1)` (the default); other values reproduce 6.837 scenes.
     Point {
         intensity: V3,
         #[serde(default)]
         position: V3,
+        #[serde(default = "inverse_square")]
+        attenuation: V3,
     },
     /// Distant light travelling along `direction`; `irradiance` in W/m^2 on a surface facing it.
     Directional {

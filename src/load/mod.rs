@@ -1,7 +1,8 @@
-//! The Load stage: read the scene (RON, or a bare OBJ mesh), spawn its entities, and resolve the render settings
-//! from the file and the command-line overrides.
+//! The Load stage: read the scene (RON, a bare OBJ mesh, or a 6.837 `.txt` scene), spawn its entities, and resolve
+//! the render settings from the file and the command-line overrides.
 
 pub mod desc;
+pub mod mit6837;
 mod obj;
 mod ron_scene;
 mod spawn;
@@ -55,11 +56,19 @@ fn load_file(path: &Path, world: &mut World, res: &mut Resources) -> Result<File
             spawn_scene(&desc, &text, path, base, world, res)
         }
         "obj" => load_obj_scene(path, world, res),
-        "" => {
-            Err(PrismError::invalid(format!("{}: scene file has no extension (expected .ron or .obj)", path.display())))
+        "txt" => {
+            // A 6.837 scene: spawned through its RON equivalent (what `prism convert` writes).
+            let base = path.parent().unwrap_or(Path::new("."));
+            let text = mit6837::convert_file(path, base)?.ron;
+            let desc = parse_scene(&text, path)?;
+            spawn_scene(&desc, &text, path, base, world, res)
         }
+        "" => Err(PrismError::invalid(format!(
+            "{}: scene file has no extension (expected .ron, .obj or a 6.837 .txt)",
+            path.display()
+        ))),
         other => Err(PrismError::invalid(format!(
-            "{}: unsupported scene format '.{other}' (expected .ron or .obj)",
+            "{}: unsupported scene format '.{other}' (expected .ron, .obj or a 6.837 .txt)",
             path.display()
         ))),
     }

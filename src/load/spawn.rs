@@ -9,10 +9,10 @@ use super::transform::compose;
 use crate::app::Resources;
 use crate::components::{Camera, Light, MaterialId, Name, Parent, Projection, Shape, Transform};
 use crate::error::{PrismError, Result};
-use crate::material::Material;
+use crate::material::{Material, Shading};
 use crate::mesh::MeshData;
 use crate::sampling::PixelPattern;
-use crate::settings::{AccelKind, PluginConfig};
+use crate::settings::{AccelKind, GridResolution, PluginConfig};
 use glam::{Vec2, Vec3};
 use hecs::{Entity, EntityBuilder, World};
 use std::collections::HashMap;
@@ -95,16 +95,34 @@ pub fn spawn_scene(
     let r = &desc.render;
     Ok(FileSettings {
         integrator: r.integrator.map(|raw| plugin_config(raw, text, file)).transpose()?,
-        accel: r.accel.map(|a| match a {
-            AccelDesc::Bvh => AccelKind::Bvh,
-            AccelDesc::Brute => AccelKind::Brute,
-        }),
+        accel: accel_kind(r.accel, r.grid, &ctx)?,
         spp: r.spp,
         passes: r.passes,
         pattern: r.pattern,
         seed: r.seed,
         time: r.time,
         exposure: r.exposure,
+    })
+}
+
+/// The accelerator a scene's `render: (accel: ..., grid: ...)` asks for; `grid` alone implies the grid.
+fn accel_kind(accel: Option<AccelDesc>, grid: Option<[u32; 3]>, ctx: &str) -> Result<Option<AccelKind>> {
+    if let Some(r) = grid {
+        crate::accel::grid::check_resolution(r).map_err(|e| PrismError::scene(ctx, format!("render: {e}")))?;
+    }
+    let resolution = grid.map_or(GridResolution::Auto, GridResolution::Fixed);
+    Ok(match (accel, grid) {
+        (None, None) => None,
+        (None | Some(AccelDesc::Grid), _) => Some(AccelKind::Grid(resolution)),
+        (Some(a), Some(_)) => {
+            return Err(PrismError::scene(
+                ctx,
+                format!("render: a `grid` resolution needs accel: grid, not {}", format!("{a:?}").to_lowercase()),
+            ));
+        }
+        (Some(AccelDesc::Bvh), None) => Some(AccelKind::Bvh),
+        (Some(AccelDesc::Kdtree), None) => Some(AccelKind::KdTree),
+        (Some(AccelDesc::Brute), None) => Some(AccelKind::Brute),
     })
 }
 
@@ -146,20 +164,13 @@ impl Spawner<'_> {
                 Material { two_sided: *two_sided, ..Material::lambert(name, color(*albedo, "albedo", &ctx)?) }
             }
             MaterialDesc::Phong { ambient, diffuse, specular, exponent, reflective, transparent, ior, two_sided } => {
-                if !(exponent.is_finite() && *exponent >= 0.0) {
-                    return Err(PrismError::scene(&ctx, format!("exponent must be >= 0, got {exponent}")));
-                }
-                Material {
-                    name: name.to_string(),
-                    ambient: color(*ambient, "ambient", &ctx)?,
-                    diffuse: color(*diffuse, "diffuse", &ctx)?,
-                    specular: color(*specular, "specular", &ctx)?,
-                    exponent: *exponent,
-                    reflective: color(*reflective, "reflective", &ctx)?,
-                    transparent: color(*transparent, "transparent", &ctx)?,
-                    ior: check_ior(*ior, &ctx)?,
-                    two_sided: *two_sided,
-                }
+                let colors = [*ambient, *diffuse, *specular, *reflective, *transparent];
+                phong_material(name, &ctx, colors, *exponent, *ior, *two_sided, Shading::Physical)?
+            }
+            // The course's ambient term is ambientLight times the diffuse colour.
+            MaterialDesc::Mit6837 { diffuse, specular, exponent, reflective, transparent, ior, two_sided } => {
+                let colors = [*diffuse, *diffuse, *specular, *reflective, *transparent];
+                phong_material(name, &ctx, colors, *exponent, *ior, *two_sided, Shading::Mit6837)?
             }
             MaterialDesc::Mirror { reflectance } => {
                 Material { reflective: color(*reflectance, "reflectance", &ctx)?, ..Material::black(name) }
@@ -223,10 +234,17 @@ impl Spawner<'_> {
             Some(_) if mat_emission.is_some() && e.material.is_some() => {
                 return Err(PrismError::scene(&ctx, "has both an emissive material and a light; use one"));
             }
-            Some(LightDesc::Point { intensity, position }) => Some(Light::Point {
-                intensity: color(*intensity, "intensity", &ctx)?,
-                position: point(*position, "position", &ctx)?,
-            }),
+            Some(LightDesc::Point { intensity, position, attenuation }) => {
+                let attenuation = color(*attenuation, "attenuation", &ctx)?;
+                if attenuation == Vec3::ZERO {
+                    return Err(PrismError::scene(&ctx, "point light attenuation (a0, a1, a2) is all zero"));
+                }
+                Some(Light::Point {
+                    intensity: color(*intensity, "intensity", &ctx)?,
+                    position: point(*position, "position", &ctx)?,
+                    attenuation,
+                })
+            }
             Some(LightDesc::Directional { irradiance, direction }) => {
                 let d = point(*direction, "direction", &ctx)?;
                 if d == Vec3::ZERO {
@@ -441,6 +459,35 @@ struct MeshPart {
 enum ShapeOut {
     One(Shape),
     Parts(Vec<MeshPart>),
+}
+
+/// A Phong material from `[ambient, diffuse, specular, reflective, transparent]` colours (validated).
+#[allow(clippy::too_many_arguments)]
+fn phong_material(
+    name: &str,
+    ctx: &str,
+    colors: [V3; 5],
+    exponent: f32,
+    ior: f32,
+    two_sided: bool,
+    shading: Shading,
+) -> Result<Material> {
+    if !(exponent.is_finite() && exponent >= 0.0) {
+        return Err(PrismError::scene(ctx, format!("exponent must be >= 0, got {exponent}")));
+    }
+    let [ambient, diffuse, specular, reflective, transparent] = colors;
+    Ok(Material {
+        name: name.to_string(),
+        ambient: color(ambient, "ambient", ctx)?,
+        diffuse: color(diffuse, "diffuse", ctx)?,
+        specular: color(specular, "specular", ctx)?,
+        exponent,
+        reflective: color(reflective, "reflective", ctx)?,
+        transparent: color(transparent, "transparent", ctx)?,
+        ior: check_ior(ior, ctx)?,
+        two_sided,
+        shading,
+    })
 }
 
 fn check_ior(ior: f32, ctx: &str) -> Result<f32> {

@@ -1,0 +1,712 @@
+//! Uniform grid (the 6.837 assignment 5 accelerator, done robustly): the padded world bounds of the bounded
+//! primitives cut into `nx x ny x nz` equal cells, each listing the primitives that overlap it, traversed cell by
+//! cell with a 3D-DDA (Amanatides & Woo, "A Fast Voxel Traversal Algorithm for Ray Tracing", 1987).
+//!
+//! Parameters: the resolution, fixed (`render: (accel: grid, grid: (nx, ny, nz))`, `--grid NX NY NZ`) or automatic
+//! ([`GridResolution::Auto`]): `lambda * cbrt(N)` cells along the longest axis of the bounds and proportionally
+//! fewer along the others (cells as close to cubes as the integer counts allow), at most [`AUTO_MAX_PER_AXIS`]
+//! per axis, halved while the primitives' bounds span more than [`AUTO_MAX_CELLS_PER_PRIM`] cells on average
+//! (huge or identical triangles, where finer cells only multiply references). `lambda` = [`DEFAULT_LAMBDA`],
+//! chosen by measurement (README, "Accelerators").
+//!
+//! Insertion. Primitives are world-space already (nested transforms composed): a triangle goes into every cell
+//! its exact vertices' triangle overlaps (separating-axis test against the cell, `tri_box.rs`); a sphere into the
+//! cells its bounding box overlaps (for an ellipsoid, the box of the 8 transformed corners of its local box), a
+//! world-space sphere only into those within its radius. Cells are padded by a few ulps so rounding never loses a
+//! reference. Planes are unbounded and stay outside (the `Scene` tests them).
+//!
+//! Traversal. The ray is clipped to the grid; the DDA steps to the neighbouring cell across the nearest cell
+//! face, with every face position recomputed from its index (no accumulated drift). Axis-parallel rays never step
+//! along their parallel axes. In each cell, primitives not yet tested by this ray are tested (per-thread
+//! mailboxes, `mailbox.rs`: no primitive is tested twice, nothing allocated per ray); a hit may lie beyond the
+//! current cell (a primitive spanning cells): it shortens the ray but traversal stops only once the closest hit
+//! so far lies within the cells visited, so a nearer primitive in a later cell is never missed.
+//!
+//! Nested grids (automatic resolution only). A cell holding more than [`NEST_THRESHOLD`] references after
+//! insertion gets its own automatic grid over the part of the cell its primitives occupy, recursively up to
+//! [`MAX_NEST_DEPTH`] levels, when most of those primitives are small next to the cell and the nested grid
+//! spreads them out (its fullest cell holds at most half as many), within a budget of `4 N + 4096` nested cells. This is the fix for the teapot in a stadium: a uniform grid sized for the stadium
+//! puts the whole teapot in one or two cells, so every ray through the teapot tests all its triangles.
+//!
+//! Bad resolutions (0 cells, more than [`MAX_CELLS_PER_AXIS`] per axis, more than [`MAX_CELLS`] in total, or a
+//! resolution so fine that primitives would need more than [`MAX_CANDIDATES`] cell tests) are errors.
+
+use super::clip::{RayInv, clip_ray, padded};
+use super::mailbox::{Mailbox, new_owner_id, with_mailbox};
+use super::tri_box::triangle_overlaps_box;
+use super::work::{NoCount, TraversalWork, WorkCounter};
+use super::{AccelStats, Accelerator};
+use crate::error::{PrismError, Result};
+use crate::geometry::{Bounds, Ray, WatertightRay};
+use crate::primitives::{Hit, Primitives};
+use crate::settings::GridResolution;
+use glam::Vec3A;
+use rayon::prelude::*;
+use std::time::Duration;
+
+/// Cells along the longest axis = `DEFAULT_LAMBDA * cbrt(N)` for automatic resolutions.
+pub const DEFAULT_LAMBDA: f32 = 2.0;
+/// Largest automatic resolution along one axis.
+pub const AUTO_MAX_PER_AXIS: u32 = 512;
+/// Largest accepted resolution along one axis.
+pub const MAX_CELLS_PER_AXIS: u32 = 4096;
+/// Largest accepted number of cells (8 bytes each: 256 MiB).
+pub const MAX_CELLS: u64 = 1 << 25;
+/// Largest accepted number of (cell, primitive) overlap tests during insertion.
+pub const MAX_CANDIDATES: u64 = 1 << 28;
+/// Automatic resolutions are halved while primitives' bounds span more cells than this on average.
+pub const AUTO_MAX_CELLS_PER_PRIM: u64 = 24;
+/// Cells holding more references than this get a nested grid (automatic resolution only).
+pub const NEST_THRESHOLD: u32 = 48;
+/// Nesting depth limit (the top grid is depth 0).
+pub const MAX_NEST_DEPTH: u32 = 3;
+
+/// The first and last cell (inclusive) a primitive's bounds overlap.
+type CellRange = ([i32; 3], [i32; 3]);
+
+/// Marks a cell whose content is a nested grid (`start` is then the index of its level).
+const NESTED: u32 = u32::MAX;
+
+#[derive(Clone, Copy, Debug, Default)]
+struct Cell {
+    start: u32,
+    count: u32,
+}
+
+/// One grid: the top level or a nested grid inside a cell of its parent.
+#[derive(Clone, Debug)]
+struct Level {
+    bounds: Bounds,
+    res: [i32; 3],
+    cell: Vec3A,
+    inv_cell: Vec3A,
+    cells: Vec<Cell>,
+    /// One bit per cell, set when the cell holds something: the traversal skips empty cells by reading this
+    /// small array (a few KiB) instead of the cells themselves.
+    occupied: Vec<u64>,
+    depth: u32,
+}
+
+impl Level {
+    #[inline(always)]
+    fn is_occupied(&self, i: usize) -> bool {
+        self.occupied[i >> 6] & (1 << (i & 63)) != 0
+    }
+
+    fn update_occupancy(&mut self) {
+        self.occupied = vec![0; self.cells.len().div_ceil(64)];
+        for (i, c) in self.cells.iter().enumerate() {
+            if c.count != 0 {
+                self.occupied[i >> 6] |= 1 << (i & 63);
+            }
+        }
+    }
+
+    #[inline(always)]
+    fn index(&self, c: [i32; 3]) -> usize {
+        (c[0] + self.res[0] * (c[1] + self.res[1] * c[2])) as usize
+    }
+
+    /// Position of cell face `k` (0..=res) along axis `a`.
+    #[inline(always)]
+    fn face(&self, a: usize, k: i32) -> f32 {
+        if k >= self.res[a] { self.bounds.max[a] } else { self.bounds.min[a] + k as f32 * self.cell[a] }
+    }
+
+    fn cell_bounds(&self, c: [i32; 3]) -> Bounds {
+        let lo = Vec3A::new(self.face(0, c[0]), self.face(1, c[1]), self.face(2, c[2]));
+        let hi = Vec3A::new(self.face(0, c[0] + 1), self.face(1, c[1] + 1), self.face(2, c[2] + 1));
+        Bounds::new(lo, hi)
+    }
+
+    /// Cell coordinates containing `p` (clamped into the grid).
+    #[inline(always)]
+    fn cell_of(&self, p: Vec3A) -> [i32; 3] {
+        let f = ((p - self.bounds.min) * self.inv_cell).floor();
+        [0, 1, 2].map(|a| (f[a] as i32).clamp(0, self.res[a] - 1))
+    }
+}
+
+/// 3D-DDA state over one level.
+struct Dda {
+    c: [i32; 3],
+    next: [f32; 3],
+    step: [i32; 3],
+}
+
+impl Dda {
+    #[inline(always)]
+    fn new(l: &Level, ray: &Ray, ri: &RayInv, t0: f32) -> Self {
+        let c = l.cell_of(ray.origin + ray.dir * t0);
+        let mut next = [f32::INFINITY; 3];
+        let mut step = [0; 3];
+        for a in 0..3 {
+            if ri.parallel[a] {
+                continue;
+            }
+            step[a] = if ray.dir[a] > 0.0 { 1 } else { -1 };
+            let k = if step[a] > 0 { c[a] + 1 } else { c[a] };
+            next[a] = (l.face(a, k) - ray.origin[a]) * ri.inv[a];
+        }
+        Dda { c, next, step }
+    }
+
+    /// The axis whose face the ray crosses first, and where.
+    #[inline(always)]
+    fn exit(&self) -> (usize, f32) {
+        let n = self.next;
+        if n[0] < n[1] {
+            if n[0] < n[2] { (0, n[0]) } else { (2, n[2]) }
+        } else if n[1] < n[2] {
+            (1, n[1])
+        } else {
+            (2, n[2])
+        }
+    }
+
+    /// Step across the face on `axis`; false when that leaves the level.
+    #[inline(always)]
+    fn advance(&mut self, l: &Level, ray: &Ray, ri: &RayInv, axis: usize) -> bool {
+        let c = self.c[axis] + self.step[axis];
+        if c < 0 || c >= l.res[axis] {
+            return false;
+        }
+        self.c[axis] = c;
+        let k = if self.step[axis] > 0 { c + 1 } else { c };
+        self.next[axis] = (l.face(axis, k) - ray.origin[axis]) * ri.inv[axis];
+        true
+    }
+}
+
+/// A cell of the grid (or of a nested grid) and how many primitive references it holds.
+#[derive(Clone, Copy, Debug)]
+pub struct GridCell {
+    pub bounds: Bounds,
+    pub count: u32,
+    /// Nesting depth (0 = the top grid).
+    pub depth: u32,
+}
+
+/// The first occupied cell a ray enters (for the `-visualize_grid` view).
+#[derive(Clone, Copy, Debug)]
+pub struct CellHit {
+    pub t: f32,
+    /// Outward normal of the cell face the ray entered through.
+    pub normal: Vec3A,
+    pub cell: GridCell,
+}
+
+pub struct UniformGrid {
+    levels: Vec<Level>,
+    refs: Vec<u32>,
+    /// The vertices of each reference's triangle (zero for spheres), in cell order: a cell's triangles are read
+    /// from consecutive memory.
+    ref_tris: Vec<[Vec3A; 3]>,
+    num_tris: u32,
+    owner: u64,
+    num_prims: u32,
+    resolution: GridResolution,
+    pub(super) build_time: Duration,
+}
+
+/// Best hit so far and the current end of the ray.
+struct Closest {
+    tmax: f32,
+    hit: Option<Hit>,
+}
+
+impl UniformGrid {
+    pub fn build(prims: &Primitives, resolution: GridResolution) -> Result<Self> {
+        Self::build_with_lambda(prims, resolution, DEFAULT_LAMBDA)
+    }
+
+    /// Build with an explicit `lambda` for automatic resolutions (for measuring the best `lambda`).
+    pub fn build_with_lambda(prims: &Primitives, resolution: GridResolution, lambda: f32) -> Result<Self> {
+        if !(lambda.is_finite() && lambda > 0.0) {
+            return Err(PrismError::invalid(format!("grid: lambda must be positive, got {lambda}")));
+        }
+        let n = prims.num_bounded();
+        let mut grid = UniformGrid {
+            levels: Vec::new(),
+            refs: Vec::new(),
+            ref_tris: Vec::new(),
+            num_tris: prims.num_tris(),
+            owner: new_owner_id(),
+            num_prims: n,
+            resolution,
+            build_time: Duration::ZERO,
+        };
+        let bounds = if n == 0 { Bounds::new(Vec3A::ZERO, Vec3A::ZERO) } else { prims.bounds };
+        let bounds = padded(&bounds);
+        let res = match resolution {
+            GridResolution::Fixed(r) => {
+                check_resolution(r)?;
+                r
+            }
+            GridResolution::Auto => auto_resolution(n as usize, bounds.diagonal(), lambda),
+        };
+        let ids: Vec<u32> = (0..n).collect();
+        let nest = matches!(resolution, GridResolution::Auto);
+        grid.build_level(prims, &ids, bounds, res, 0, nest, lambda)?;
+        grid.compact_refs();
+        let nt = grid.num_tris;
+        grid.ref_tris =
+            grid.refs.iter().map(|&id| if id < nt { prims.tris[id as usize] } else { [Vec3A::ZERO; 3] }).collect();
+        Ok(grid)
+    }
+
+    /// Insert `ids` into a new level over `bounds`; returns its index. With `auto` (automatic resolution) the
+    /// resolution shrinks while primitives span too many cells, and crowded cells become nested levels.
+    #[allow(clippy::too_many_arguments)]
+    fn build_level(
+        &mut self,
+        prims: &Primitives,
+        ids: &[u32],
+        bounds: Bounds,
+        res: [u32; 3],
+        depth: u32,
+        auto: bool,
+        lambda: f32,
+    ) -> Result<usize> {
+        let diag = bounds.diagonal();
+        let cell = diag / Vec3A::new(res[0] as f32, res[1] as f32, res[2] as f32);
+        let mut level = Level {
+            bounds,
+            res: res.map(|r| r as i32),
+            cell,
+            inv_cell: Vec3A::ONE / cell,
+            cells: vec![Cell::default(); res.iter().map(|&r| r as usize).product()],
+            occupied: Vec::new(),
+            depth,
+        };
+        // Candidate cells: the cell range of each primitive's bounds.
+        let candidate_ranges = |level: &Level| -> (Vec<CellRange>, u64) {
+            let ranges: Vec<CellRange> = ids
+                .par_iter()
+                .map(|&id| {
+                    let b = prims.prim_bounds(id);
+                    (level.cell_of(b.min), level.cell_of(b.max))
+                })
+                .collect();
+            let n = ranges.iter().map(|(lo, hi)| (0..3).map(|a| (hi[a] - lo[a] + 1) as u64).product::<u64>()).sum();
+            (ranges, n)
+        };
+        let (mut ranges, mut candidates) = candidate_ranges(&level);
+        // Automatic resolutions assume primitives small next to the cells; when they are not (huge or identical
+        // triangles), halve the resolution until each primitive spans few cells.
+        let mut res = res;
+        while auto && candidates > AUTO_MAX_CELLS_PER_PRIM * ids.len() as u64 && res.iter().any(|&r| r > 1) {
+            res = res.map(|r| (r / 2).max(1));
+            let cell = diag / Vec3A::new(res[0] as f32, res[1] as f32, res[2] as f32);
+            level.res = res.map(|r| r as i32);
+            level.cell = cell;
+            level.inv_cell = Vec3A::ONE / cell;
+            level.cells = vec![Cell::default(); res.iter().map(|&r| r as usize).product()];
+            (ranges, candidates) = candidate_ranges(&level);
+        }
+        if candidates > MAX_CANDIDATES {
+            return Err(PrismError::invalid(format!(
+                "grid {}x{}x{} is too fine for these primitives ({candidates} cell overlap tests, at most \
+                 {MAX_CANDIDATES}); use a coarser grid",
+                res[0], res[1], res[2]
+            )));
+        }
+        // (cell, primitive) pairs in primitive order; a counting sort keeps that order within each cell.
+        let level_ref = &level;
+        let pairs: Vec<(u32, u32)> = ids
+            .par_iter()
+            .zip(ranges.par_iter())
+            .flat_map_iter(|(&id, &(lo, hi))| {
+                let mut out = Vec::new();
+                for z in lo[2]..=hi[2] {
+                    for y in lo[1]..=hi[1] {
+                        for x in lo[0]..=hi[0] {
+                            let c = [x, y, z];
+                            if overlaps(prims, id, &level_ref.cell_bounds(c)) {
+                                out.push((level_ref.index(c) as u32, id));
+                            }
+                        }
+                    }
+                }
+                out
+            })
+            .collect();
+        if self.refs.len() + pairs.len() > u32::MAX as usize / 2 {
+            return Err(PrismError::invalid("grid: too many primitive references"));
+        }
+        for &(c, _) in &pairs {
+            level.cells[c as usize].count += 1;
+        }
+        let base = self.refs.len();
+        let mut start = base as u32;
+        for c in level.cells.iter_mut() {
+            c.start = start;
+            start += c.count;
+        }
+        self.refs.resize(base + pairs.len(), 0);
+        let mut fill: Vec<u32> = level.cells.iter().map(|c| c.start).collect();
+        for &(c, id) in &pairs {
+            self.refs[fill[c as usize] as usize] = id;
+            fill[c as usize] += 1;
+        }
+        level.update_occupancy();
+        let index = self.levels.len();
+        self.levels.push(level);
+        if auto && depth < MAX_NEST_DEPTH {
+            self.nest_crowded_cells(prims, index, lambda)?;
+        }
+        Ok(index)
+    }
+
+    /// Drop the references of cells that became nested grids (their primitives are listed in the nested grid).
+    fn compact_refs(&mut self) {
+        let old = std::mem::take(&mut self.refs);
+        let mut refs = Vec::with_capacity(old.len());
+        for cell in self.levels.iter_mut().flat_map(|l| l.cells.iter_mut()) {
+            if cell.count != NESTED && cell.count > 0 {
+                let start = refs.len() as u32;
+                refs.extend_from_slice(&old[cell.start as usize..(cell.start + cell.count) as usize]);
+                cell.start = start;
+            }
+        }
+        self.refs = refs;
+    }
+
+    /// Replace the crowded cells of level `index` by nested grids where that spreads the primitives out.
+    fn nest_crowded_cells(&mut self, prims: &Primitives, index: usize, lambda: f32) -> Result<()> {
+        let crowded: Vec<usize> = (0..self.levels[index].cells.len())
+            .filter(|&i| {
+                let c = self.levels[index].cells[i];
+                c.count != NESTED && c.count > NEST_THRESHOLD
+            })
+            .collect();
+        for i in crowded {
+            let l = &self.levels[index];
+            let c = l.cells[i];
+            let coords = [i as i32 % l.res[0], (i as i32 / l.res[0]) % l.res[1], i as i32 / (l.res[0] * l.res[1])];
+            let cell_bounds = l.cell_bounds(coords);
+            let depth = l.depth + 1;
+            let ids: Vec<u32> = self.refs[c.start as usize..(c.start + c.count) as usize].to_vec();
+            // A finer grid separates only primitives that are small next to the cell; big ones (huge or
+            // overlapping triangles) would fill every sub-cell.
+            let half = 0.5 * cell_bounds.diagonal();
+            let small = ids
+                .iter()
+                .filter(|&&id| {
+                    let b = prims.prim_bounds(id);
+                    let clipped = b.max.min(cell_bounds.max) - b.min.max(cell_bounds.min);
+                    clipped.cmple(half).all()
+                })
+                .count();
+            let budget = 4 * self.num_prims as usize + 4096;
+            let nested_cells: usize = self.levels[1..].iter().map(|l| l.cells.len()).sum();
+            if small * 2 < ids.len() || nested_cells >= budget {
+                continue;
+            }
+            // Grid over the part of the cell the primitives occupy.
+            let occupied = ids.iter().fold(Bounds::EMPTY, |b, &id| b.union(prims.prim_bounds(id)));
+            let occupied = Bounds::new(occupied.min.max(cell_bounds.min), occupied.max.min(cell_bounds.max));
+            let sub = padded(&occupied);
+            let res = auto_resolution(ids.len(), sub.diagonal(), lambda);
+            let (levels_before, refs_before) = (self.levels.len(), self.refs.len());
+            let child = self.build_level(prims, &ids, sub, res, depth, true, lambda)?;
+            // Keep the nested grid only if its fullest cell holds clearly fewer primitives than the cell did.
+            let fullest = self.levels[child].cells.iter().filter(|k| k.count != NESTED).map(|k| k.count).max();
+            if fullest.unwrap_or(0) * 2 > c.count && res.iter().product::<u32>() > 1 {
+                self.levels.truncate(levels_before);
+                self.refs.truncate(refs_before);
+                continue;
+            }
+            self.levels[index].cells[i] = Cell { start: child as u32, count: NESTED };
+        }
+        Ok(())
+    }
+
+    /// Walk level `li` over `[t0, t1]`; true when the query is answered (a hit for occlusion, or the closest hit
+    /// lies within the cells visited).
+    #[allow(clippy::too_many_arguments)]
+    #[inline]
+    fn walk<const ANY: bool, C: WorkCounter>(
+        &self,
+        li: usize,
+        prims: &Primitives,
+        ray: &Ray,
+        wt: &WatertightRay,
+        ri: &RayInv,
+        t0: f32,
+        t1: f32,
+        best: &mut Closest,
+        mailbox: &mut Mailbox,
+        counter: &mut C,
+    ) -> bool {
+        let l = &self.levels[li];
+        let mut dda = Dda::new(l, ray, ri, t0);
+        let mut t_enter = t0;
+        loop {
+            counter.node();
+            let (axis, t_face) = dda.exit();
+            let t_exit = t_face.min(t1);
+            let index = l.index(dda.c);
+            let cell = if l.is_occupied(index) { l.cells[index] } else { Cell::default() };
+            if cell.count == NESTED {
+                if let Some(child) = self.levels.get(cell.start as usize)
+                    && let Some((c0, c1)) = clip_ray(&child.bounds, ray.origin, ri, t_enter, t_exit)
+                    && self.walk::<ANY, C>(cell.start as usize, prims, ray, wt, ri, c0, c1, best, mailbox, counter)
+                {
+                    return true;
+                }
+            } else if cell.count > 0 {
+                let range = cell.start as usize..(cell.start + cell.count) as usize;
+                for (&id, [p0, p1, p2]) in self.refs[range.clone()].iter().zip(&self.ref_tris[range]) {
+                    if !mailbox.first_visit(id) {
+                        continue;
+                    }
+                    counter.prim();
+                    let hit = if id < self.num_tris {
+                        wt.intersect(*p0, *p1, *p2, best.tmax).map(|h| Hit { t: h.t, prim: id, b1: h.b1, b2: h.b2 })
+                    } else {
+                        prims.intersect_sphere(id, &Ray { tmax: best.tmax, ..*ray })
+                    };
+                    if let Some(h) = hit {
+                        best.tmax = h.t;
+                        best.hit = Some(h);
+                        if ANY {
+                            return true;
+                        }
+                    }
+                }
+            }
+            if best.tmax <= t_exit {
+                return true;
+            }
+            if t_face >= t1 || !dda.advance(l, ray, ri, axis) {
+                return false;
+            }
+            t_enter = t_face;
+        }
+    }
+
+    #[inline]
+    fn query<const ANY: bool, C: WorkCounter>(&self, prims: &Primitives, ray: &Ray, counter: &mut C) -> Option<Hit> {
+        if self.num_prims == 0 {
+            return None;
+        }
+        let ri = RayInv::new(ray.dir);
+        let (t0, t1) = clip_ray(&self.levels[0].bounds, ray.origin, &ri, 0.0, ray.tmax)?;
+        let wt = WatertightRay::new(ray);
+        let mut best = Closest { tmax: ray.tmax, hit: None };
+        with_mailbox(self.owner, self.num_prims as usize, |mb| {
+            self.walk::<ANY, C>(0, prims, ray, &wt, &ri, t0, t1, &mut best, mb, counter);
+        });
+        best.hit
+    }
+
+    /// Bounds of the top grid (the primitives' bounds, padded by rounding error).
+    pub fn bounds(&self) -> Bounds {
+        self.levels.first().map_or(Bounds::EMPTY, |l| l.bounds)
+    }
+
+    /// Position of cell face `k` (0 to the resolution) of the top grid along `axis`, exactly as traversal
+    /// computes it (for tests that aim rays along cell borders).
+    pub fn face_position(&self, axis: usize, k: u32) -> f32 {
+        self.levels.first().map_or(0.0, |l| l.face(axis, k as i32))
+    }
+
+    /// Resolution of the top grid.
+    pub fn resolution(&self) -> [u32; 3] {
+        self.levels.first().map_or([0; 3], |l| l.res.map(|r| r as u32))
+    }
+
+    /// Number of nested grids.
+    pub fn nested_grids(&self) -> usize {
+        self.levels.len().saturating_sub(1)
+    }
+
+    /// Total primitive references (a primitive counts once per cell it is listed in).
+    pub fn references(&self) -> usize {
+        self.refs.len()
+    }
+
+    /// Every occupied cell that holds primitives (nested grids' cells instead of the cells they refine).
+    pub fn occupied_cells(&self) -> Vec<GridCell> {
+        let mut out = Vec::new();
+        for l in &self.levels {
+            for z in 0..l.res[2] {
+                for y in 0..l.res[1] {
+                    for x in 0..l.res[0] {
+                        let c = l.cells[l.index([x, y, z])];
+                        if c.count != NESTED && c.count > 0 {
+                            out.push(GridCell { bounds: l.cell_bounds([x, y, z]), count: c.count, depth: l.depth });
+                        }
+                    }
+                }
+            }
+        }
+        out
+    }
+
+    /// The first occupied cell along the ray (descending into nested grids), with the face it was entered by.
+    pub fn first_occupied_cell(&self, ray: &Ray) -> Option<CellHit> {
+        let ri = RayInv::new(ray.dir);
+        let l = self.levels.first()?;
+        let (t0, t1) = clip_ray(&l.bounds, ray.origin, &ri, 0.0, ray.tmax)?;
+        self.first_occupied_in(0, ray, &ri, t0, t1)
+    }
+
+    fn first_occupied_in(&self, li: usize, ray: &Ray, ri: &RayInv, t0: f32, t1: f32) -> Option<CellHit> {
+        let l = &self.levels[li];
+        let mut dda = Dda::new(l, ray, ri, t0);
+        let mut t_enter = t0;
+        loop {
+            let (axis, t_face) = dda.exit();
+            let t_exit = t_face.min(t1);
+            let cell = l.cells[l.index(dda.c)];
+            if cell.count == NESTED {
+                let child = &self.levels[cell.start as usize];
+                if let Some((c0, c1)) = clip_ray(&child.bounds, ray.origin, ri, t_enter, t_exit)
+                    && let Some(h) = self.first_occupied_in(cell.start as usize, ray, ri, c0, c1)
+                {
+                    return Some(h);
+                }
+            } else if cell.count > 0 {
+                let bounds = l.cell_bounds(dda.c);
+                return Some(CellHit {
+                    t: t_enter,
+                    normal: entry_normal(&bounds, ray.at(t_enter), ray.dir),
+                    cell: GridCell { bounds, count: cell.count, depth: l.depth },
+                });
+            }
+            if t_face >= t1 || !dda.advance(l, ray, ri, axis) {
+                return None;
+            }
+            t_enter = t_face;
+        }
+    }
+}
+
+/// The outward normal of the face of `b` nearest to `p` (a point on its boundary) that faces against `dir`.
+fn entry_normal(b: &Bounds, p: Vec3A, dir: Vec3A) -> Vec3A {
+    let size = b.diagonal().max(Vec3A::splat(f32::MIN_POSITIVE));
+    let mut best = (f32::INFINITY, Vec3A::ZERO);
+    for a in 0..3 {
+        let mut n = Vec3A::ZERO;
+        let d = if dir[a] > 0.0 {
+            n[a] = -1.0;
+            (p[a] - b.min[a]).abs()
+        } else {
+            n[a] = 1.0;
+            (b.max[a] - p[a]).abs()
+        };
+        let d = d / size[a];
+        if d < best.0 {
+            best = (d, n);
+        }
+    }
+    best.1
+}
+
+/// Does bounded primitive `id` overlap the cell `b` (padded by rounding error)?
+fn overlaps(prims: &Primitives, id: u32, b: &Bounds) -> bool {
+    let ext = b.diagonal().max_element();
+    let mag = b.min.abs().max(b.max.abs()).max_element();
+    let pad = Vec3A::splat(1e-4 * ext + 8.0 * f32::EPSILON * mag);
+    let (lo, hi) = (b.min - pad, b.max + pad);
+    let nt = prims.num_tris();
+    if id < nt {
+        return triangle_overlaps_box(&prims.tris[id as usize], lo, hi);
+    }
+    let s = &prims.spheres[(id - nt) as usize];
+    let pb = prims.prim_bounds(id);
+    if pb.min.cmpgt(hi).any() || pb.max.cmplt(lo).any() {
+        return false;
+    }
+    match s.transform {
+        // Distance from the centre to the box.
+        None => {
+            let q = s.center.clamp(lo, hi);
+            let r = s.radius * (1.0 + 1e-5);
+            (q - s.center).length_squared() <= r * r
+        }
+        Some(_) => true,
+    }
+}
+
+/// A clear error for resolutions with an empty axis, too many cells per axis, or too many cells in total.
+pub fn check_resolution(r: [u32; 3]) -> Result<()> {
+    if r.contains(&0) {
+        return Err(PrismError::invalid(format!(
+            "grid resolution {}x{}x{} has an axis with 0 cells (each axis needs 1 to {MAX_CELLS_PER_AXIS})",
+            r[0], r[1], r[2]
+        )));
+    }
+    if r.iter().any(|&n| n > MAX_CELLS_PER_AXIS) {
+        return Err(PrismError::invalid(format!(
+            "grid resolution {}x{}x{} is too large (at most {MAX_CELLS_PER_AXIS} cells per axis)",
+            r[0], r[1], r[2]
+        )));
+    }
+    let total: u64 = r.iter().map(|&n| n as u64).product();
+    if total > MAX_CELLS {
+        return Err(PrismError::invalid(format!(
+            "grid resolution {}x{}x{} has {total} cells (at most {MAX_CELLS}, {} MiB)",
+            r[0],
+            r[1],
+            r[2],
+            (MAX_CELLS * 8) >> 20
+        )));
+    }
+    Ok(())
+}
+
+/// `lambda * cbrt(n)` cells along the longest side of a box of size `diag`, the other axes in proportion.
+pub fn auto_resolution(n: usize, diag: Vec3A, lambda: f32) -> [u32; 3] {
+    let longest = diag.max_element();
+    if n == 0 || longest.is_nan() || longest <= 0.0 {
+        return [1; 3];
+    }
+    let per_unit = lambda * (n as f32).cbrt() / longest;
+    let mut r = [0, 1, 2].map(|a| ((diag[a] * per_unit).round() as u32).clamp(1, AUTO_MAX_PER_AXIS));
+    // Stay well inside the cell budget.
+    while r.iter().map(|&x| x as u64).product::<u64>() > MAX_CELLS / 2 {
+        r = r.map(|x| (x / 2).max(1));
+    }
+    r
+}
+
+impl Accelerator for UniformGrid {
+    #[inline]
+    fn intersect(&self, prims: &Primitives, ray: &Ray) -> Option<Hit> {
+        self.query::<false, _>(prims, ray, &mut NoCount)
+    }
+
+    #[inline]
+    fn occluded(&self, prims: &Primitives, ray: &Ray) -> bool {
+        self.query::<true, _>(prims, ray, &mut NoCount).is_some()
+    }
+
+    fn intersect_counted(&self, prims: &Primitives, ray: &Ray, work: &mut TraversalWork) -> Option<Hit> {
+        self.query::<false, _>(prims, ray, work)
+    }
+
+    fn stats(&self) -> AccelStats {
+        let cells: usize = self.levels.iter().map(|l| l.cells.len()).sum();
+        let r = self.resolution();
+        let auto = if matches!(self.resolution, GridResolution::Auto) { " auto" } else { "" };
+        AccelStats {
+            kind: "grid",
+            build_time: self.build_time,
+            memory_bytes: cells * std::mem::size_of::<Cell>()
+                + self.levels.iter().map(|l| l.occupied.len() * 8).sum::<usize>()
+                + self.refs.len() * (4 + std::mem::size_of::<[Vec3A; 3]>()),
+            nodes: cells,
+            detail: format!(
+                "{}x{}x{}{auto}, {:.2} refs/prim, {} nested",
+                r[0],
+                r[1],
+                r[2],
+                self.refs.len() as f64 / self.num_prims.max(1) as f64,
+                self.nested_grids()
+            ),
+        }
+    }
+}

@@ -1,0 +1,110 @@
+//! What a 6.837 scene file says, as parsed (course units and conventions, before conversion): camera, background,
+//! ambient light, lights, materials and the object tree. Every object remembers its line; leaf objects carry the
+//! material index that was current when they were read (`MaterialIndex` applies in file order, ignoring the
+//! tree, as in the course parser).
+
+use glam::Vec3;
+use std::path::PathBuf;
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum CameraTxt {
+    /// `size` is the width and height of the view in world units.
+    Orthographic { center: Vec3, direction: Vec3, up: Vec3, size: f32 },
+    /// `angle` is the full field of view in degrees.
+    Perspective { center: Vec3, direction: Vec3, up: Vec3, angle: f32 },
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum LightTxt {
+    /// `direction` is where the light travels; `color` is the course's light colour.
+    Directional { direction: Vec3, color: Vec3 },
+    /// The colour at distance d is `color / (a0 + a1 d + a2 d^2)`.
+    Point { position: Vec3, color: Vec3, attenuation: [f32; 3] },
+}
+
+/// `Material` / `PhongMaterial` with the course's defaults.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MaterialTxt {
+    pub diffuse: Vec3,
+    pub specular: Vec3,
+    pub exponent: f32,
+    pub reflective: Vec3,
+    pub transparent: Vec3,
+    pub ior: f32,
+}
+
+impl Default for MaterialTxt {
+    fn default() -> Self {
+        MaterialTxt {
+            diffuse: Vec3::ONE,
+            specular: Vec3::ZERO,
+            exponent: 1.0,
+            reflective: Vec3::ZERO,
+            transparent: Vec3::ZERO,
+            ior: 1.0,
+        }
+    }
+}
+
+/// One operation of a `Transform` block; the list applies like the course's matrix product (first listed =
+/// outermost), with `Matrix` already moved to the front where the course pre-multiplies it.
+#[derive(Clone, Debug, PartialEq)]
+pub enum OpTxt {
+    Scale(Vec3),
+    UniformScale(f32),
+    Translate(Vec3),
+    Rotate {
+        axis: Vec3,
+        degrees: f32,
+    },
+    /// Rows top to bottom.
+    Matrix([[f32; 4]; 4]),
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum ObjectTxt {
+    Group {
+        line: usize,
+        children: Vec<ObjectTxt>,
+    },
+    Transform {
+        line: usize,
+        ops: Vec<OpTxt>,
+        child: Box<ObjectTxt>,
+    },
+    Sphere {
+        line: usize,
+        center: Vec3,
+        radius: f32,
+        material: usize,
+    },
+    Plane {
+        line: usize,
+        normal: Vec3,
+        offset: f32,
+        material: usize,
+    },
+    Triangle {
+        line: usize,
+        vertices: [Vec3; 3],
+        material: usize,
+    },
+    /// `path` resolved against the scene file's folder.
+    Mesh {
+        line: usize,
+        path: PathBuf,
+        material: usize,
+    },
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct SceneTxt {
+    pub camera: CameraTxt,
+    /// Course default (0.5, 0.5, 0.5).
+    pub background: Vec3,
+    /// Course default 0, or white when the scene has no lights.
+    pub ambient: Vec3,
+    pub lights: Vec<LightTxt>,
+    pub materials: Vec<MaterialTxt>,
+    pub root: Option<ObjectTxt>,
+}

@@ -1,0 +1,31 @@
+//! MIT 6.837 (Fall 2004) scene files, assignments 1-5: `prism render scene.txt` loads them directly and `prism
+//! convert IN.txt -o OUT.ron` writes the equivalent RON scene. Loading goes through that very RON text, so a
+//! converted scene spawns exactly what the `.txt` does.
+//!
+//! - `lexer.rs`: words and braces with their line and column;
+//! - `parser.rs`: the course grammar into `ast.rs`, with one-line `file:line:col` errors;
+//! - `convert.rs`: the course's conventions in Prism's units, written as RON.
+
+mod ast;
+mod convert;
+mod lexer;
+mod parser;
+
+pub use ast::{CameraTxt, LightTxt, MaterialTxt, ObjectTxt, OpTxt, SceneTxt};
+pub use convert::{Converted, DEFAULT_SIZE, relative_path, to_ron};
+pub use lexer::{Token, tokenize};
+pub use parser::parse_txt;
+
+use crate::error::{PrismError, Result};
+use std::path::Path;
+
+/// Parse a 6.837 scene file.
+pub fn parse_file(path: &Path) -> Result<SceneTxt> {
+    let text = std::fs::read_to_string(path).map_err(|e| PrismError::io(path, e))?;
+    parse_txt(&text, path, path.parent().unwrap_or(Path::new(".")))
+}
+
+/// The RON scene equivalent to a 6.837 scene file, with mesh paths relative to `ron_dir`.
+pub fn convert_file(path: &Path, ron_dir: &Path) -> Result<Converted> {
+    to_ron(&parse_file(path)?, path, ron_dir)
+}
