@@ -217,3 +217,20 @@ fn phong_material_at_the_mirror_direction_gives_kd_over_pi_plus_normalised_ks() 
         assert!((p.x as f64 - expect).abs() < 1e-5 * expect, "{} vs {expect}", p.x);
     }
 }
+
+#[test]
+fn rays_leaving_the_scene_see_the_environment_in_every_integrator() {
+    // A camera in an empty scene sees the constant environment; a mirror facing the camera reflects it.
+    for integrator in ["phong", "envlight"] {
+        let scene = format!(
+            "(camera: (size: (8, 8), fov: 20), render: (integrator: {integrator}), background: (9, 9, 9),
+              materials: {{\"mirror\": Mirror(reflectance: (0.5, 0.5, 0.5))}},
+              entities: [(light: Environment(radiance: (0.3, 0.5, 0.7))),
+                         (shape: Quad(), material: \"mirror\", transform: [UniformScale(0.5)])])"
+        );
+        let img = render_ron(&scene, spp(1));
+        let sky = Vec3::new(0.3, 0.5, 0.7);
+        assert!((img.get(0, 0) - sky).abs().max_element() < 1e-6, "{integrator}: corner sees {}", img.get(0, 0));
+        assert!((img.get(4, 4) - 0.5 * sky).abs().max_element() < 1e-6, "{integrator}: mirror shows {}", img.get(4, 4));
+    }
+}

@@ -89,7 +89,7 @@ impl Phong {
 
     fn trace(&self, scene: &Scene, ray: &Ray, rng: &mut Rng, depth: u32, weight: f32) -> Vec3 {
         let Some(s) = scene.trace(ray) else {
-            return scene.globals.background;
+            return scene.escaped(ray.dir);
         };
         let wo = -ray.dir;
         let m = scene.material(s.material);
