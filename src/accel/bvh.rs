@@ -5,7 +5,7 @@
 
 use super::work::TraversalWork;
 use super::{AccelStats, Accelerator};
-use crate::geometry::{Ray, WatertightRay};
+use crate::geometry::{Ray, TriSoa, WatertightRay};
 use crate::primitives::{Hit, Primitives};
 use glam::{UVec2, Vec3A};
 use obvhs::{BvhBuildParams, aabb::Aabb, cwbvh::CwBvh, ray::RayHit};
@@ -14,7 +14,7 @@ use std::time::Duration;
 pub struct BvhAccel {
     bvh: CwBvh,
     /// Vertices of the triangle in each slot (zero for sphere slots).
-    slot_tris: Vec<[Vec3A; 3]>,
+    slot_tris: Vec<TriSoa>,
     /// Primitive id of each slot.
     slot_ids: Vec<u32>,
     num_tris: u32,
@@ -26,8 +26,8 @@ pub struct BvhAccel {
 impl BvhAccel {
     pub fn build(prims: &Primitives) -> Self {
         let n = prims.num_bounded();
-        // Boxes grown by a few ulps: a flat box gets a thickness, and an axis-parallel ray through a vertex
-        // coordinate never lies exactly on a box face, where obvhs's slab test computes 0 * inf = NaN and misses.
+        // Boxes grown by a few ulps: a flat box gets a thickness, so a ray lying in the plane of flat geometry
+        // (coplanar triangles) does not get an empty slab interval.
         let aabbs: Vec<Aabb> = (0..n)
             .map(|i| {
                 let b = prims.prim_bounds(i);
@@ -43,8 +43,10 @@ impl BvhAccel {
         };
         let nt = prims.num_tris();
         let slot_ids = bvh.primitive_indices.clone();
-        let slot_tris =
-            slot_ids.iter().map(|&id| if id < nt { prims.tris[id as usize] } else { [Vec3A::ZERO; 3] }).collect();
+        let slot_tris = slot_ids
+            .iter()
+            .map(|&id| if id < nt { TriSoa::new(&prims.tris[id as usize]) } else { TriSoa::default() })
+            .collect();
         BvhAccel {
             bvh,
             slot_tris,
@@ -59,8 +61,7 @@ impl BvhAccel {
     fn hit_slot(&self, prims: &Primitives, slot: usize, ray: &Ray, wt: &WatertightRay) -> Option<Hit> {
         let id = self.slot_ids[slot];
         if id < self.num_tris {
-            let [p0, p1, p2] = self.slot_tris[slot];
-            wt.intersect(p0, p1, p2, ray.tmax).map(|h| Hit { t: h.t, prim: id, b1: h.b1, b2: h.b2 })
+            wt.intersect_soa(&self.slot_tris[slot], ray.tmax).map(|h| Hit { t: h.t, prim: id, b1: h.b1, b2: h.b2 })
         } else {
             prims.intersect_sphere(id, ray)
         }
@@ -82,14 +83,10 @@ impl BvhAccel {
 fn to_obvhs(ray: &Ray) -> obvhs::ray::Ray {
     const BIG: f32 = 1e25;
     let direction = ray.dir + Vec3A::ZERO;
-    let inv = |d: f32| if d.abs() * BIG > 1.0 { 1.0 / d } else { BIG.copysign(d) };
-    obvhs::ray::Ray {
-        origin: ray.origin,
-        direction,
-        inv_direction: Vec3A::new(inv(direction.x), inv(direction.y), inv(direction.z)),
-        tmin: 0.0,
-        tmax: ray.tmax,
-    }
+    let recip = direction.recip();
+    let inv_direction =
+        Vec3A::select(recip.abs().cmpgt(Vec3A::splat(BIG)), Vec3A::splat(BIG).copysign(direction), recip);
+    obvhs::ray::Ray { origin: ray.origin, direction, inv_direction, tmin: 0.0, tmax: ray.tmax }
 }
 
 impl Accelerator for BvhAccel {
@@ -104,8 +101,7 @@ impl Accelerator for BvhAccel {
             // Hot path: read only the slot's vertices; the primitive id is looked up once, for the final hit.
             let mut bary = (0.0, 0.0);
             self.bvh.ray_traverse(to_obvhs(ray), &mut rh, |r, slot| {
-                let [p0, p1, p2] = self.slot_tris[slot];
-                match wt.intersect(p0, p1, p2, r.tmax) {
+                match wt.intersect_soa(&self.slot_tris[slot], r.tmax) {
                     Some(h) => {
                         bary = (h.b1, h.b2);
                         h.t
@@ -184,7 +180,7 @@ impl Accelerator for BvhAccel {
             detail: format!("{} CWBVH nodes, {} leaf slots", self.bvh.nodes.len(), self.slot_ids.len()),
             build_time: self.build_time,
             memory_bytes: self.bvh.nodes.len() * std::mem::size_of::<obvhs::cwbvh::node::CwBvhNode>()
-                + self.slot_ids.len() * (4 + std::mem::size_of::<[Vec3A; 3]>()),
+                + self.slot_ids.len() * (4 + std::mem::size_of::<TriSoa>()),
             nodes: self.bvh.nodes.len(),
         }
     }

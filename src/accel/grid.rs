@@ -37,7 +37,7 @@ use super::tri_box::triangle_overlaps_box;
 use super::work::{NoCount, TraversalWork, WorkCounter};
 use super::{AccelStats, Accelerator};
 use crate::error::{PrismError, Result};
-use crate::geometry::{Bounds, Ray, WatertightRay};
+use crate::geometry::{Bounds, Ray, TriSoa, WatertightRay};
 use crate::primitives::{Hit, Primitives};
 use crate::settings::GridResolution;
 use glam::Vec3A;
@@ -201,7 +201,7 @@ pub struct UniformGrid {
     refs: Vec<u32>,
     /// The vertices of each reference's triangle (zero for spheres), in cell order: a cell's triangles are read
     /// from consecutive memory.
-    ref_tris: Vec<[Vec3A; 3]>,
+    ref_tris: Vec<TriSoa>,
     num_tris: u32,
     owner: u64,
     num_prims: u32,
@@ -250,8 +250,11 @@ impl UniformGrid {
         grid.build_level(prims, &ids, bounds, res, 0, nest, lambda)?;
         grid.compact_refs();
         let nt = grid.num_tris;
-        grid.ref_tris =
-            grid.refs.iter().map(|&id| if id < nt { prims.tris[id as usize] } else { [Vec3A::ZERO; 3] }).collect();
+        grid.ref_tris = grid
+            .refs
+            .iter()
+            .map(|&id| if id < nt { TriSoa::new(&prims.tris[id as usize]) } else { TriSoa::default() })
+            .collect();
         Ok(grid)
     }
 
@@ -457,13 +460,13 @@ impl UniformGrid {
                 }
             } else if cell.count > 0 {
                 let range = cell.start as usize..(cell.start + cell.count) as usize;
-                for (&id, [p0, p1, p2]) in self.refs[range.clone()].iter().zip(&self.ref_tris[range]) {
+                for (&id, tri) in self.refs[range.clone()].iter().zip(&self.ref_tris[range]) {
                     if !mailbox.first_visit(id) {
                         continue;
                     }
                     counter.prim();
                     let hit = if id < self.num_tris {
-                        wt.intersect(*p0, *p1, *p2, best.tmax).map(|h| Hit { t: h.t, prim: id, b1: h.b1, b2: h.b2 })
+                        wt.intersect_soa(tri, best.tmax).map(|h| Hit { t: h.t, prim: id, b1: h.b1, b2: h.b2 })
                     } else {
                         prims.intersect_sphere(id, &Ray { tmax: best.tmax, ..*ray })
                     };
@@ -697,7 +700,7 @@ impl Accelerator for UniformGrid {
             build_time: self.build_time,
             memory_bytes: cells * std::mem::size_of::<Cell>()
                 + self.levels.iter().map(|l| l.occupied.len() * 8).sum::<usize>()
-                + self.refs.len() * (4 + std::mem::size_of::<[Vec3A; 3]>()),
+                + self.refs.len() * (4 + std::mem::size_of::<TriSoa>()),
             nodes: cells,
             detail: format!(
                 "{}x{}x{}{auto}, {:.2} refs/prim, {} nested",

@@ -18,9 +18,8 @@ use super::clip::{RayInv, clip_ray, padded};
 use super::kdtree_build::build_tree;
 use super::work::{NoCount, TraversalWork, WorkCounter};
 use super::{AccelStats, Accelerator};
-use crate::geometry::{Bounds, Ray, WatertightRay};
+use crate::geometry::{Bounds, Ray, TriSoa, WatertightRay};
 use crate::primitives::{Hit, Primitives};
-use glam::Vec3A;
 use std::time::Duration;
 
 /// Hard depth limit; the traversal stack has room for it.
@@ -120,7 +119,7 @@ pub struct KdTree {
     leaf_prims: Vec<u32>,
     /// The vertices of each leaf reference's triangle (zero for spheres), in leaf order: a leaf's triangles are
     /// read from consecutive memory instead of scattered over the primitive array.
-    leaf_tris: Vec<[Vec3A; 3]>,
+    leaf_tris: Vec<TriSoa>,
     num_tris: u32,
     bounds: Bounds,
     depth: u32,
@@ -138,8 +137,11 @@ impl KdTree {
         let bounds = if n == 0 { Bounds::EMPTY } else { padded(&prims.bounds) };
         let data = if n == 0 { KdTreeData::default() } else { build_tree(prims, bounds, params) };
         let nt = prims.num_tris();
-        let leaf_tris =
-            data.prims.iter().map(|&id| if id < nt { prims.tris[id as usize] } else { [Vec3A::ZERO; 3] }).collect();
+        let leaf_tris = data
+            .prims
+            .iter()
+            .map(|&id| if id < nt { TriSoa::new(&prims.tris[id as usize]) } else { TriSoa::default() })
+            .collect();
         KdTree {
             nodes: data.nodes,
             leaf_prims: data.prims,
@@ -238,7 +240,7 @@ impl KdTree {
             }
             let first = n.first() as usize;
             let range = first..first + n.count() as usize;
-            for (&id, [p0, p1, p2]) in self.leaf_prims[range.clone()].iter().zip(&self.leaf_tris[range]) {
+            for (&id, tri) in self.leaf_prims[range.clone()].iter().zip(&self.leaf_tris[range]) {
                 if recent.contains(&id) {
                     continue;
                 }
@@ -246,7 +248,7 @@ impl KdTree {
                 next_slot += 1;
                 counter.prim();
                 let hit = if id < self.num_tris {
-                    wt.intersect(*p0, *p1, *p2, end).map(|h| Hit { t: h.t, prim: id, b1: h.b1, b2: h.b2 })
+                    wt.intersect_soa(tri, end).map(|h| Hit { t: h.t, prim: id, b1: h.b1, b2: h.b2 })
                 } else {
                     prims.intersect_sphere(id, &Ray { tmax: end, ..*ray })
                 };
@@ -289,7 +291,7 @@ impl Accelerator for KdTree {
             kind: "kdtree",
             build_time: self.build_time,
             memory_bytes: self.nodes.len() * std::mem::size_of::<KdNode>()
-                + self.leaf_prims.len() * (4 + std::mem::size_of::<[Vec3A; 3]>()),
+                + self.leaf_prims.len() * (4 + std::mem::size_of::<TriSoa>()),
             nodes: self.nodes.len(),
             detail: format!(
                 "depth {}, {} leaves, {:.2} refs/prim",

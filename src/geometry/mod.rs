@@ -14,4 +14,4 @@ pub use offset::{gamma, offset_ray_origin, spawn_ray, spawn_ray_to};
 pub use plane::intersect_plane;
 pub use ray::Ray;
 pub use sphere::intersect_sphere;
-pub use triangle::{TriangleHit, WatertightRay};
+pub use triangle::{TriSoa, TriangleHit, WatertightRay};

@@ -5,16 +5,53 @@
 //! negated edge functions in both, so a ray through a shared edge or vertex hits at least one of them: no cracks.
 //! Edge functions that come out exactly zero are recomputed in f64, as the paper prescribes. Hits closer than the
 //! rounding error of t are rejected (pbrt-v4's conservative t bound), so rays leaving a surface never re-hit it.
+//!
+//! Triangles are tested in structure-of-arrays form ([`TriSoa`]: the three vertices' x, y and z in the lanes of
+//! three vectors, 48 bytes like three `Vec3A`s): one SIMD pass maps all three vertices, the edge functions are one
+//! lane rotation away, and the z row is only computed for hits. Every accelerator calls this one kernel, so all of
+//! them compute bit-identical hits.
 
 use super::{Ray, gamma};
-use glam::{Mat3A, Vec3A};
+use glam::{Vec3A, Vec3Swizzles};
 
-/// Per-ray precomputation: origin and the shear/permutation matrix.
+/// A triangle with its vertices' coordinates gathered per axis: lane i of `xs` is vertex i's x.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct TriSoa {
+    pub xs: Vec3A,
+    pub ys: Vec3A,
+    pub zs: Vec3A,
+}
+
+impl TriSoa {
+    #[inline]
+    pub fn new(v: &[Vec3A; 3]) -> Self {
+        TriSoa {
+            xs: Vec3A::new(v[0].x, v[1].x, v[2].x),
+            ys: Vec3A::new(v[0].y, v[1].y, v[2].y),
+            zs: Vec3A::new(v[0].z, v[1].z, v[2].z),
+        }
+    }
+
+    /// The vertices back in array form.
+    #[inline]
+    pub fn vertices(&self) -> [Vec3A; 3] {
+        [
+            Vec3A::new(self.xs.x, self.ys.x, self.zs.x),
+            Vec3A::new(self.xs.y, self.ys.y, self.zs.y),
+            Vec3A::new(self.xs.z, self.ys.z, self.zs.z),
+        ]
+    }
+}
+
+/// Per-ray precomputation: the origin and the rows of the shear/permutation matrix, each coefficient splatted
+/// across lanes.
 #[derive(Clone, Copy, Debug)]
 pub struct WatertightRay {
-    origin: Vec3A,
-    /// Rows: e_kx - sx e_kz, e_ky - sy e_kz, sz e_kz (applied as a matrix so it stays SIMD-friendly).
-    shear: Mat3A,
+    ox: Vec3A,
+    oy: Vec3A,
+    oz: Vec3A,
+    /// Rows e_kx - sx e_kz, e_ky - sy e_kz and sz e_kz; `rows[r][c]` is coefficient c of row r, splatted.
+    rows: [[Vec3A; 3]; 3],
 }
 
 /// Hit distance and barycentric weights of the three vertices.
@@ -51,35 +88,51 @@ impl WatertightRay {
             1 => Vec3A::Y,
             _ => Vec3A::Z,
         };
-        let row0 = e(kx) - sx * e(kz);
-        let row1 = e(ky) - sy * e(kz);
-        let row2 = sz * e(kz);
-        WatertightRay { origin: ray.origin, shear: Mat3A::from_cols(row0, row1, row2).transpose() }
+        let row = |r: Vec3A| [Vec3A::splat(r.x), Vec3A::splat(r.y), Vec3A::splat(r.z)];
+        let o = ray.origin;
+        WatertightRay {
+            ox: Vec3A::splat(o.x),
+            oy: Vec3A::splat(o.y),
+            oz: Vec3A::splat(o.z),
+            rows: [row(e(kx) - sx * e(kz)), row(e(ky) - sy * e(kz)), row(sz * e(kz))],
+        }
     }
 
     /// Intersect the triangle `(p0, p1, p2)`; hits with `t` in `(0, tmax)` only.
     #[inline(always)]
     pub fn intersect(&self, p0: Vec3A, p1: Vec3A, p2: Vec3A, tmax: f32) -> Option<TriangleHit> {
-        let a = self.shear * (p0 - self.origin);
-        let b = self.shear * (p1 - self.origin);
-        let c = self.shear * (p2 - self.origin);
-        let mut u = c.x * b.y - c.y * b.x;
-        let mut v = a.x * c.y - a.y * c.x;
-        let mut w = b.x * a.y - b.y * a.x;
-        if u == 0.0 || v == 0.0 || w == 0.0 {
-            let (ax, ay, bx, by, cx, cy) = (a.x as f64, a.y as f64, b.x as f64, b.y as f64, c.x as f64, c.y as f64);
-            u = (cx * by - cy * bx) as f32;
-            v = (ax * cy - ay * cx) as f32;
-            w = (bx * ay - by * ax) as f32;
+        self.intersect_soa(&TriSoa::new(&[p0, p1, p2]), tmax)
+    }
+
+    /// Intersect a triangle in SoA form; hits with `t` in `(0, tmax)` only.
+    #[inline(always)]
+    pub fn intersect_soa(&self, tri: &TriSoa, tmax: f32) -> Option<TriangleHit> {
+        let (dx, dy, dz) = (tri.xs - self.ox, tri.ys - self.oy, tri.zs - self.oz);
+        let [r0, r1, r2] = &self.rows;
+        // Lane i holds vertex i's sheared coordinate.
+        let x = dx * r0[0] + dy * r0[1] + dz * r0[2];
+        let y = dx * r1[0] + dy * r1[1] + dz * r1[2];
+        // Edge functions (U, V, W) = (x2 y1 - y2 x1, x0 y2 - y0 x2, x1 y0 - y1 x0): the barycentric weights of the
+        // vertices opposite each edge. A shared edge gives exactly negated values in its two triangles.
+        let mut uvw = x.zxy() * y.yzx() - y.zxy() * x.yzx();
+        if uvw.cmpeq(Vec3A::ZERO).any() {
+            let (x, y) = (x.to_array().map(f64::from), y.to_array().map(f64::from));
+            uvw = Vec3A::new(
+                (x[2] * y[1] - y[2] * x[1]) as f32,
+                (x[0] * y[2] - y[0] * x[2]) as f32,
+                (x[1] * y[0] - y[1] * x[0]) as f32,
+            );
         }
-        if (u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0) {
+        if uvw.cmplt(Vec3A::ZERO).any() && uvw.cmpgt(Vec3A::ZERO).any() {
             return None;
         }
+        let (u, v, w) = (uvw.x, uvw.y, uvw.z);
         let det = u + v + w;
         if det == 0.0 {
             return None;
         }
-        let t_scaled = u * a.z + v * b.z + w * c.z;
+        let z = dx * r2[0] + dy * r2[1] + dz * r2[2];
+        let t_scaled = u * z.x + v * z.y + w * z.z;
         if det > 0.0 {
             if t_scaled <= 0.0 || t_scaled >= tmax * det {
                 return None;
@@ -91,14 +144,14 @@ impl WatertightRay {
         let t = t_scaled * inv;
         // Reject t within its rounding error of 0 (pbrt-v4 section 6.8.4): a ray that starts exactly on the
         // triangle's plane (an exactly representable surface point, whose spawn offset is 0) must not re-hit it.
-        let max_zt = a.z.abs().max(b.z.abs()).max(c.z.abs());
-        let max_xt = a.x.abs().max(b.x.abs()).max(c.x.abs());
-        let max_yt = a.y.abs().max(b.y.abs()).max(c.y.abs());
+        let max_zt = z.abs().max_element();
+        let max_xt = x.abs().max_element();
+        let max_yt = y.abs().max_element();
         let delta_z = gamma(3) * max_zt;
         let delta_x = gamma(5) * (max_xt + max_zt);
         let delta_y = gamma(5) * (max_yt + max_zt);
         let delta_e = 2.0 * (gamma(2) * max_xt * max_yt + delta_y * max_xt + delta_x * max_yt);
-        let max_e = u.abs().max(v.abs()).max(w.abs());
+        let max_e = uvw.abs().max_element();
         let delta_t = 3.0 * (gamma(3) * max_e * max_zt + delta_e * max_zt + delta_z * max_e) * inv.abs();
         if t <= delta_t {
             return None;
