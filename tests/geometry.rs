@@ -2,7 +2,7 @@
 //! offset against self-intersection (shadow acne) and light leaking, optics identities.
 
 use glam::Vec3A;
-use prism::geometry::{Ray, WatertightRay, gamma, intersect_sphere, offset_ray_origin, spawn_ray};
+use prism::geometry::{Ray, TriPacket, WatertightRay, gamma, intersect_sphere, offset_ray_origin, spawn_ray};
 use prism::math::{Frame, fresnel_dielectric, refract};
 use prism::mesh::MeshData;
 use prism::primitives::sphere_point_error;
@@ -81,6 +81,49 @@ fn watertight_rays_through_shared_edges_of_a_planar_fan_never_fall_through() {
             assert!(hits_any(&tris, &Ray::new(o, -Vec3A::Z)), "fell through at edge {i}, r = {r}");
         }
     }
+}
+
+#[test]
+fn packet_prefilter_never_rejects_a_triangle_the_exact_watertight_test_hits() {
+    // The kd-tree tests leaf triangles four at a time with an edge-function pre-filter and only runs the exact
+    // test on survivors: a rejected lane that the exact test would hit would be a hole in the mesh. Rays from
+    // inside and outside a closed mesh, exactly through its vertices and edge midpoints (zero edge functions) and
+    // in random directions, over packets of four of its triangles.
+    let tris = closed_mesh(2);
+    let mut rng = Rng::new(11, 3);
+    let mut rays = Vec::new();
+    for t in &tris {
+        for i in 0..3 {
+            for o in [Vec3A::ZERO, Vec3A::new(0.1, -0.2, 0.05)] {
+                rays.push(Ray::new(o, (t[i] - o).normalize()));
+                rays.push(Ray::new(o, ((t[i] + t[(i + 1) % 3]) * 0.5 - o).normalize()));
+            }
+            let outside = t[i] * 3.0;
+            rays.push(Ray::new(outside, (t[(i + 1) % 3] - outside).normalize()));
+        }
+    }
+    for _ in 0..5000 {
+        let o = warp::uniform_sphere(rng.next_2d()) * (0.5 + 3.0 * rng.next_f32());
+        rays.push(Ray::new(o, warp::uniform_sphere(rng.next_2d())));
+    }
+    let (mut exact_hits, mut survivors) = (0, 0);
+    for ray in &rays {
+        let wt = WatertightRay::new(ray);
+        for chunk in tris.chunks(4) {
+            let packet = TriPacket::new(chunk);
+            let candidates = wt.packet_candidates(&packet);
+            for (lane, t) in chunk.iter().enumerate() {
+                assert_eq!(packet.lane(lane).vertices(), *t, "packet lane {lane} does not hold its triangle");
+                let hit = wt.intersect(t[0], t[1], t[2], f32::INFINITY).is_some();
+                exact_hits += hit as u32;
+                survivors += candidates >> lane & 1;
+                assert!(!hit || candidates >> lane & 1 == 1, "pre-filter rejected a hit: ray {ray:?}, lane {lane}");
+            }
+        }
+    }
+    // The filter must also do its job: most lanes rejected.
+    let lanes = (rays.len() * tris.len()) as u32;
+    assert!(exact_hits > 0 && survivors < lanes / 4, "{survivors} of {lanes} lanes survived ({exact_hits} hits)");
 }
 
 #[test]

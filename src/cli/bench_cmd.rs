@@ -3,8 +3,11 @@
 //! throughput (Mrays/s) for camera rays and for secondary (diffuse bounce) rays, plus occlusion throughput for
 //! shadow rays (`accel/ray_sets.rs`). Prints a Markdown table; `--chart` writes an SVG of Mrays/s against the
 //! number of primitives, one curve per accelerator and ray kind (give several scenes, e.g. the bunny series, for
-//! curves). Brute force is skipped above `--brute-limit` primitives. Timings repeat each measurement for at
-//! least `--seconds`; the build is the fastest of the builds done in that time.
+//! curves). Brute force is skipped above `--brute-limit` primitives. The build is the fastest of the builds done
+//! in `--seconds / 2`. Traversal is timed interleaved: round after round, every accelerator traces every ray set
+//! once, until each (accelerator, ray set) has had about `--seconds`; each number is the fastest pass. A machine
+//! whose speed drifts (other jobs, frequency changes) then slows every accelerator alike, so the ratios between
+//! accelerators of one scene are measured in the same run.
 
 use crate::accel::Accel;
 use crate::accel::ray_sets::{camera_rays, secondary_rays};
@@ -12,6 +15,7 @@ use crate::app::{App, SceneSource};
 use crate::chart::{Chart, Series};
 use crate::error::PrismError;
 use crate::geometry::Ray;
+use crate::primitives::Primitives;
 use crate::settings::{AccelKind, Overrides};
 use clap::Args;
 use rayon::prelude::*;
@@ -84,22 +88,49 @@ fn parse_kinds(s: &str, grid: Option<&[u32]>) -> Result<Vec<AccelKind>, PrismErr
     Ok(kinds)
 }
 
-/// Rays per second (in millions) of `f` over `rays`, repeated for at least `min` seconds.
-fn throughput(rays: &[Ray], min: Duration, f: impl Fn(&Ray) -> bool + Sync) -> f64 {
-    if rays.is_empty() {
-        return 0.0;
-    }
-    let start = Instant::now();
-    let mut done = 0usize;
-    loop {
-        let hits: usize = rays.par_chunks(256).map(|c| c.iter().filter(|r| f(r)).count()).sum();
+/// Seconds of the fastest pass of each accelerator over each ray set (camera and bounce rays: closest hit; shadow
+/// rays: occlusion), passes interleaved round by round (see the module doc); at least three rounds.
+fn interleaved_best(accels: &[Accel], prims: &Primitives, sets: [&[Ray]; 3], min: Duration) -> Vec<[f64; 3]> {
+    let pass = |accel: &Accel, set: usize| {
+        let rays = sets[set];
+        let t = Instant::now();
+        let hits: usize = rays
+            .par_chunks(256)
+            .map(|c| {
+                c.iter()
+                    .filter(|r| if set == 2 { accel.occluded(prims, r) } else { accel.intersect(prims, r).is_some() })
+                    .count()
+            })
+            .sum();
         black_box(hits);
-        done += rays.len();
-        let t = start.elapsed();
-        if t >= min {
-            return done as f64 / t.as_secs_f64() / 1e6;
+        t.elapsed()
+    };
+    let mut best = vec![[Duration::MAX; 3]; accels.len()];
+    let mut spent = vec![[Duration::ZERO; 3]; accels.len()];
+    let mut rounds = 0;
+    while rounds < 3 || spent.iter().flatten().any(|&t| t < min) {
+        for (a, accel) in accels.iter().enumerate() {
+            for set in 0..3 {
+                if sets[set].is_empty() || (rounds >= 3 && spent[a][set] >= min) {
+                    continue;
+                }
+                let t = pass(accel, set);
+                best[a][set] = best[a][set].min(t);
+                spent[a][set] += t;
+            }
+        }
+        rounds += 1;
+        if sets.iter().all(|s| s.is_empty()) {
+            break;
         }
     }
+    best.iter()
+        .map(|b| {
+            std::array::from_fn(|set| {
+                if sets[set].is_empty() { 0.0 } else { sets[set].len() as f64 / b[set].as_secs_f64() / 1e6 }
+            })
+        })
+        .collect()
 }
 
 pub fn run(args: BenchArgs) -> anyhow::Result<()> {
@@ -137,12 +168,13 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
         };
         let (bounce, shadow) = secondary_rays(&scene_for_rays, &camera, 1);
         drop(scene_for_rays);
+        let (mut accels, mut builds) = (Vec::new(), Vec::new());
         for &kind in &kinds {
             if kind == AccelKind::Brute && prims.num_bounded() > args.brute_limit {
                 eprintln!("{name}: brute force skipped ({} primitives > --brute-limit)", prims.num_bounded());
                 continue;
             }
-            eprintln!("{name}: {} ...", kind.name());
+            eprintln!("{name}: building {} ...", kind.name());
             let (accel, build) = pool.install(|| -> anyhow::Result<(Accel, Duration)> {
                 let t0 = Instant::now();
                 let mut accel = Accel::build(kind, prims)?;
@@ -154,14 +186,15 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
                 }
                 Ok((accel, best))
             })?;
+            accels.push(accel);
+            builds.push((kind, build));
+        }
+        eprintln!("{name}: tracing ...");
+        let mrays = pool.install(|| interleaved_best(&accels, prims, [&camera, &bounce, &shadow], min));
+        for (((kind, build), accel), [camera_mrays, secondary_mrays, shadow_mrays]) in
+            builds.iter().zip(&accels).zip(mrays)
+        {
             let stats = accel.stats();
-            let (camera_mrays, secondary_mrays, shadow_mrays) = pool.install(|| {
-                (
-                    throughput(&camera, min, |r| accel.intersect(prims, r).is_some()),
-                    throughput(&bounce, min, |r| accel.intersect(prims, r).is_some()),
-                    throughput(&shadow, min, |r| accel.occluded(prims, r)),
-                )
-            });
             rows.push(BenchRow {
                 scene: name.clone(),
                 prims: prims.num_bounded(),

@@ -8,6 +8,7 @@ mod plane;
 mod ray;
 mod sphere;
 mod triangle;
+mod triangle_packet;
 
 pub use bounds::Bounds;
 pub use offset::{gamma, offset_ray_origin, spawn_ray, spawn_ray_to};
@@ -15,3 +16,4 @@ pub use plane::intersect_plane;
 pub use ray::Ray;
 pub use sphere::intersect_sphere;
 pub use triangle::{TriSoa, TriangleHit, WatertightRay};
+pub use triangle_packet::TriPacket;

@@ -98,6 +98,18 @@ impl WatertightRay {
         }
     }
 
+    /// The ray origin's coordinates.
+    #[inline(always)]
+    pub(super) fn origin_splat(&self) -> [f32; 3] {
+        [self.ox.x, self.oy.x, self.oz.x]
+    }
+
+    /// The shear/permutation matrix rows (coefficient c of row r at `[r][c]`).
+    #[inline(always)]
+    pub(super) fn shear_rows(&self) -> [[f32; 3]; 3] {
+        self.rows.map(|row| row.map(|c| c.x))
+    }
+
     /// Intersect the triangle `(p0, p1, p2)`; hits with `t` in `(0, tmax)` only.
     #[inline(always)]
     pub fn intersect(&self, p0: Vec3A, p1: Vec3A, p2: Vec3A, tmax: f32) -> Option<TriangleHit> {
