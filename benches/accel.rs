@@ -58,6 +58,8 @@ fn raw_ray_sets(scene: &Scene) -> (Vec<Ray>, Vec<Ray>) {
         projection: Projection::Perspective { fov_y: 40.0 },
         width: 256,
         height: 256,
+        aperture_radius: 0.0,
+        focus_distance: 1.0,
     };
     let rig = CameraRig::new(&cam, &glam::Affine3A::IDENTITY).unwrap();
     let mut camera = Vec::with_capacity(256 * 256);

@@ -3,9 +3,17 @@
 //! `x = (2 px / W - 1) tan(fov_y / 2) W / H` towards image-right and `y = (1 - 2 py / H) tan(fov_y / 2)` towards
 //! image-up, where image-right = normalize(forward x up) and image-up = right x forward: the image is not mirrored
 //! (the same convention as Mitsuba 3's `perspective` sensor with a vertical fov).
+//!
+//! **Thin lens** (`aperture_radius > 0`, Mitsuba's `thinlens`): the pinhole direction `d = (x, y, 1)` meets the
+//! plane of focus (camera-space depth `focus_distance`, a plane perpendicular to the view, not a sphere) at
+//! `f = focus_distance d`; the ray starts at a point `a` of the aperture disk (concentric map of the lens sample,
+//! radius `aperture_radius`, in the image-right/image-up plane through the eye) and goes through `f`. Every ray has
+//! weight 1. Points in the plane of focus are sharp; an aperture of 0 is exactly the pinhole. Orthographic
+//! cameras get the same lens: rays parallel to the view through the film point converge at the focus plane.
 
 use crate::components::{Camera, Projection};
 use crate::geometry::Ray;
+use crate::sampling::warp::concentric_disk;
 use glam::{Affine3A, Vec2, Vec3A};
 
 /// A camera resolved to world space, ready to generate rays.
@@ -19,6 +27,8 @@ pub struct CameraRig {
     half_w: f32,
     half_h: f32,
     ortho: bool,
+    aperture_radius: f32,
+    focus_distance: f32,
     pub width: u32,
     pub height: u32,
 }
@@ -45,6 +55,8 @@ impl CameraRig {
             half_w: half_h * aspect,
             half_h,
             ortho,
+            aperture_radius: cam.aperture_radius,
+            focus_distance: cam.focus_distance,
             width: cam.width,
             height: cam.height,
         })
@@ -59,6 +71,32 @@ impl CameraRig {
             Ray::new(self.eye + self.right * x + self.up * y, self.forward)
         } else {
             Ray::new(self.eye, (self.forward + self.right * x + self.up * y).normalize())
+        }
+    }
+
+    /// True for a thin lens (rays need a lens sample).
+    #[inline]
+    pub fn has_lens(&self) -> bool {
+        self.aperture_radius > 0.0
+    }
+
+    /// The ray through film position `film` (pixels) and lens sample `u_lens` in [0,1)^2 (ignored by a pinhole).
+    #[inline]
+    pub fn generate_ray_lens(&self, film: Vec2, u_lens: Vec2) -> Ray {
+        if !self.has_lens() {
+            return self.generate_ray(film);
+        }
+        let x = (2.0 * film.x / self.width as f32 - 1.0) * self.half_w;
+        let y = (1.0 - 2.0 * film.y / self.height as f32) * self.half_h;
+        let a = concentric_disk(u_lens) * self.aperture_radius;
+        let lens = self.right * a.x + self.up * a.y;
+        if self.ortho {
+            let o = self.eye + self.right * x + self.up * y;
+            let focus = o + self.forward * self.focus_distance;
+            Ray::new(o + lens, (focus - (o + lens)).normalize())
+        } else {
+            let focus = (self.forward + self.right * x + self.up * y) * self.focus_distance;
+            Ray::new(self.eye + lens, (focus - lens).normalize())
         }
     }
 

@@ -55,6 +55,9 @@ pub enum Light {
     /// An isotropic point light at `position` (local frame); irradiance `intensity cos / (a0 + a1 d + a2 d^2)`
     /// with `attenuation = (a0, a1, a2)`, `(0, 0, 1)` for a physical light.
     Point { intensity: Vec3, position: Vec3, attenuation: Vec3 },
+    /// A spot light at `position` pointing along `direction` (local frame): intensity `intensity` (W/sr) inside
+    /// the cone of half-angle `cone_angle - falloff` degrees, smoothly falling to 0 at `cone_angle` degrees.
+    Spot { intensity: Vec3, position: Vec3, direction: Vec3, cone_angle: f32, falloff: f32 },
     /// A distant light; `direction` is the direction the light travels (local frame).
     Directional { irradiance: Vec3, direction: Vec3 },
     /// The entity's shape emits `radiance` from its front side (the side of its normal), or both sides.
@@ -73,7 +76,8 @@ pub enum Projection {
     Orthographic { height: f32 },
 }
 
-/// A camera looking from `eye` to `target` (local frame of its entity), with an image size in pixels.
+/// A camera looking from `eye` to `target` (local frame of its entity), with an image size in pixels. An
+/// `aperture_radius` above 0 makes it a thin lens focused at `focus_distance` along the view direction.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Camera {
     pub eye: Vec3,
@@ -82,4 +86,6 @@ pub struct Camera {
     pub projection: Projection,
     pub width: u32,
     pub height: u32,
+    pub aperture_radius: f32,
+    pub focus_distance: f32,
 }

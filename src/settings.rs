@@ -2,7 +2,7 @@
 //! command line wins), resolved once in the Load stage and read by every later stage.
 
 use crate::error::{PrismError, Result, SourcePos};
-use crate::sampling::PixelPattern;
+use crate::sampling::{PixelFilter, PixelPattern, SamplerKind};
 use serde::de::DeserializeOwned;
 
 /// Largest accepted image side, and largest pixel count (a 16k x 16k film already needs 6 GiB of sums).
@@ -125,7 +125,13 @@ pub struct RenderSettings {
     pub passes: u32,
     /// Samples per pixel of each pass when `spp` is `None` (time-budget renders).
     pub pass_spp: u32,
-    pub pattern: PixelPattern,
+    /// Which sampler fills every dimension of a sample.
+    pub sampler: SamplerKind,
+    /// Pixel positions from an explicit pattern instead of the sampler (`None`: the sampler's own: Sobol points
+    /// for `sobol`, jittered strata for `stratified`, uniform random for `independent`).
+    pub pattern: Option<PixelPattern>,
+    /// Pixel reconstruction filter (by filter importance sampling).
+    pub filter: PixelFilter,
     pub seed: u64,
     /// Stop after the pass that crosses this many seconds.
     pub time_budget: Option<f64>,
@@ -143,7 +149,9 @@ impl Default for RenderSettings {
             spp: Some(16),
             passes: 16,
             pass_spp: 1,
-            pattern: PixelPattern::Stratified,
+            sampler: SamplerKind::default(),
+            pattern: None,
+            filter: PixelFilter::default(),
             seed: 0,
             time_budget: None,
             integrator: PluginConfig::named("phong"),
@@ -154,6 +162,21 @@ impl Default for RenderSettings {
 }
 
 impl RenderSettings {
+    /// The pattern pixel positions follow: the explicit one, else the sampler's (`None` for Sobol points).
+    pub fn pixel_pattern(&self) -> Option<PixelPattern> {
+        match (self.pattern, self.sampler) {
+            (Some(p), _) => Some(p),
+            (None, SamplerKind::Stratified) => Some(PixelPattern::Stratified),
+            (None, SamplerKind::Independent) => Some(PixelPattern::Random),
+            (None, SamplerKind::Sobol) => None,
+        }
+    }
+
+    /// A one-word description of how pixel positions are chosen (for summaries).
+    pub fn pattern_name(&self) -> &'static str {
+        self.pixel_pattern().map_or("sobol", |p| p.name())
+    }
+
     /// Samples per pixel of pass `pass` (0-based): the total split as evenly as possible; without a sample limit
     /// every pass takes `pass_spp`.
     pub fn samples_in_pass(&self, pass: u32) -> u32 {
@@ -205,6 +228,7 @@ impl RenderSettings {
         {
             return Err(PrismError::invalid(format!("time budget must be a positive number of seconds, got {t}")));
         }
+        self.filter.validate().map_err(PrismError::invalid)?;
         if !self.exposure.is_finite() {
             return Err(PrismError::invalid("exposure must be finite"));
         }
@@ -218,7 +242,9 @@ pub struct Overrides {
     pub size: Option<(u32, u32)>,
     pub spp: Option<u32>,
     pub passes: Option<u32>,
+    pub sampler: Option<SamplerKind>,
     pub pattern: Option<PixelPattern>,
+    pub filter: Option<PixelFilter>,
     pub seed: Option<u64>,
     pub time_budget: Option<f64>,
     /// No sample limit unless `spp` is given (set with a time budget on the command line).

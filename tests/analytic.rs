@@ -191,7 +191,7 @@ fn glass_sphere_in_a_uniform_background_conserves_energy() {
     // Fresnel reflection + refraction (with the 1/eta^2 radiance scaling that cancels for a closed object) of a
     // uniform background of radiance 1: every path ends in the background, so every pixel is 1.
     let scene = "(camera: (eye: (0, 0, 4), fov: 35, size: (24, 24)), background: (1, 1, 1),
-        render: (integrator: phong(max_depth: 24)),
+        render: (integrator: phong(max_depth: 64)),
         materials: {\"glass\": Glass(ior: 1.5)},
         entities: [(shape: Sphere(), material: \"glass\")])";
     let img = render_ron(scene, spp(4));

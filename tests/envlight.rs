@@ -6,7 +6,7 @@
 use crate::common::{app_from_ron, chi_square, data, render_file, render_ron, scene_path, scratch, spp};
 use glam::{Vec2, Vec3, Vec3A};
 use prism::envmap::{EnvImage, EnvMap};
-use prism::plugins::envlight::{Piecewise2D, QuadTree};
+use prism::lights::{Piecewise2D, QuadTree};
 use prism::sampling::Rng;
 use prism::settings::Overrides;
 use std::path::PathBuf;

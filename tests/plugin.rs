@@ -5,7 +5,7 @@ use glam::Vec3;
 use prism::app::{App, Plugin, SceneSource, Stage};
 use prism::geometry::Ray;
 use prism::integrator::{PerPixel, PixelIntegrator};
-use prism::sampling::Rng;
+use prism::sampling::Sampler;
 use prism::scene::Scene;
 use serde::Deserialize;
 use std::path::PathBuf;
@@ -18,7 +18,7 @@ struct FacingRatio {
 }
 
 impl PixelIntegrator for FacingRatio {
-    fn radiance(&self, scene: &Scene, ray: Ray, _rng: &mut Rng) -> Vec3 {
+    fn radiance(&self, scene: &Scene, ray: Ray, _sampler: &mut Sampler) -> Vec3 {
         match scene.trace(&ray) {
             Some(s) => Vec3::splat(self.scale * s.ng.dot(-ray.dir).max(0.0)),
             None => Vec3::ZERO,

@@ -14,14 +14,14 @@ const PHI_BINS: usize = 40;
 /// How directions are binned: equal-area (cos theta, phi) cells over the cap `cos theta >= zmin` around `frame.n`,
 /// each integrated on a `sub x sub` grid for the expected counts. Lights use a cap hugging the light so most
 /// cells lie inside it and the silhouette cells are integrated finely.
-struct Binning {
-    frame: Frame,
-    zmin: f64,
-    sub: usize,
+pub(crate) struct Binning {
+    pub(crate) frame: Frame,
+    pub(crate) zmin: f64,
+    pub(crate) sub: usize,
 }
 
 impl Binning {
-    fn sphere() -> Self {
+    pub(crate) fn sphere() -> Self {
         Binning { frame: Frame::from_normal(Vec3A::Z), zmin: -1.0, sub: 12 }
     }
 
@@ -69,7 +69,7 @@ fn check_sampler(name: &str, sample: &mut dyn FnMut(Vec2) -> Option<Vec3A>, pdf:
 
 /// As [`check_sampler`]; `normalized` false for samplers that may return no sample (one-sided lights), whose pdf
 /// integrates to the acceptance probability.
-fn check_sampler_with(
+pub(crate) fn check_sampler_with(
     name: &str,
     sample: &mut dyn FnMut(Vec2) -> Option<Vec3A>,
     pdf: &dyn Fn(Vec3A) -> f64,
@@ -205,11 +205,11 @@ fn check_light_sampling(scene_ron: &str, p: Vec3A, name: &str, all_visible: bool
     let n = 200_000;
     check_sampler_with(
         name,
-        &mut |u| match lights.sample(0, &scene.prims, p, u) {
+        &mut |u| match lights.sample_li(0, &scene.prims, p, u) {
             Some(ls) => {
                 // The pdf the sample reports must equal pdf() for the same point.
                 let hit = scene.trace(&prism::geometry::Ray::new(p, ls.wi)).expect("sampled direction hits the light");
-                let pdf2 = lights.pdf(0, &scene.prims, p, &hit);
+                let pdf2 = lights.pdf_li(0, &scene.prims, p, &hit);
                 assert!((ls.pdf - pdf2).abs() <= 2e-3 * ls.pdf, "{name}: sample pdf {} vs pdf() {pdf2}", ls.pdf);
                 Some(ls.wi)
             }
@@ -219,7 +219,7 @@ fn check_light_sampling(scene_ron: &str, p: Vec3A, name: &str, all_visible: bool
             }
         },
         &|d| match scene.trace(&prism::geometry::Ray::new(p, d)) {
-            Some(hit) if hit.light == 0 => lights.pdf(0, &scene.prims, p, &hit) as f64,
+            Some(hit) if hit.light == 0 => lights.pdf_li(0, &scene.prims, p, &hit) as f64,
             _ => 0.0,
         },
         n,
@@ -272,7 +272,7 @@ fn ellipsoid_light_sampling_matches_its_pdf() {
     let n = 400_000;
     let mut est = 0.0f64;
     for _ in 0..n {
-        if let Some(ls) = s.lights.sample(0, &s.prims, p, rng.next_2d()) {
+        if let Some(ls) = s.lights.sample_li(0, &s.prims, p, rng.next_2d()) {
             est += 1.0 / ls.pdf as f64;
         }
     }

@@ -6,7 +6,6 @@ use glam::Vec3;
 use prism::app::{Plugin, Stage};
 use prism::geometry::Ray;
 use prism::integrator::{PerPixel, PixelIntegrator};
-use prism::sampling::Rng;
 use prism::scene::Scene;
 use prism::settings::Overrides;
 use std::sync::atomic::Ordering;
@@ -14,7 +13,7 @@ use std::sync::atomic::Ordering;
 struct NanEveryOther;
 
 impl PixelIntegrator for NanEveryOther {
-    fn radiance(&self, _scene: &Scene, ray: Ray, _rng: &mut Rng) -> Vec3 {
+    fn radiance(&self, _scene: &Scene, ray: Ray, _sampler: &mut prism::sampling::Sampler) -> Vec3 {
         if ray.dir.x > 0.0 { Vec3::NAN } else { Vec3::ONE }
     }
 }

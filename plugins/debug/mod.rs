@@ -21,7 +21,7 @@ use crate::error::{PrismError, Result};
 use crate::geometry::Ray;
 use crate::integrator::{Integrator, PassInfo, PassOutput, PerPixel, PixelIntegrator};
 use crate::io::srgb_to_linear;
-use crate::sampling::Rng;
+use crate::sampling::Sampler;
 use crate::scene::Scene;
 use crate::settings::RenderSettings;
 use glam::{Vec2, Vec3, Vec3A};
@@ -163,7 +163,7 @@ impl PixelIntegrator for DebugView {
         Ok(())
     }
 
-    fn radiance(&self, scene: &Scene, ray: Ray, _rng: &mut Rng) -> Vec3 {
+    fn radiance(&self, scene: &Scene, ray: Ray, _sampler: &mut Sampler) -> Vec3 {
         match self.params.mode {
             DebugMode::GridCells => self.grid_cell(scene, &ray),
             DebugMode::Normals => scene.trace(&ray).map_or(Vec3::ZERO, |s| {

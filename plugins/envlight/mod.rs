@@ -9,24 +9,17 @@
 //! - `mis`: weight light and BSDF sampling by the power heuristic; `false` uses light sampling alone for what
 //!   it can reach (pure strategy comparisons).
 //!
-//! The quad-tree is built in the Prepare stage, only when the scene has an environment light.
+//! Light choice and the environment samplers (quad-tree, piecewise-constant) are the core's (`crate::lights`); the
+//! sampler of the chosen strategy is built in the Prepare stage, only when the scene has an environment light.
 
-mod env_sampling;
-mod light_choice;
 mod path;
-mod piecewise;
-mod quadtree;
-
-pub use env_sampling::{EnvSampling, EnvStrategy};
-pub use piecewise::Piecewise2D;
-pub use quadtree::{DELTA, EPSILON, EnvSample, QuadTree};
 
 use crate::app::{App, Plugin};
 use crate::error::{PrismError, Result};
 use crate::integrator::{PerPixel, PixelIntegrator};
+use crate::lights::{EnvStrategy, LightSampler};
 use crate::scene::Scene;
 use crate::settings::RenderSettings;
-use light_choice::LightChoice;
 use path::PathTracer;
 use serde::Deserialize;
 
@@ -80,25 +73,13 @@ struct Envlight {
 
 impl PixelIntegrator for Envlight {
     fn prepare(&mut self, scene: &Scene, _settings: &RenderSettings) -> Result<()> {
-        let env = scene.lights.environment.as_ref().map(|e| EnvSampling::new(e, self.params.env_sampling));
-        let choice = LightChoice::new(&scene.lights, &scene.prims);
-        self.tracer = Some(PathTracer { params: self.params, env, choice });
+        let lights = LightSampler::new(&scene.lights, &scene.prims, self.params.env_sampling);
+        self.tracer = Some(PathTracer { params: self.params, lights });
         Ok(())
     }
 
     #[inline]
-    fn radiance(&self, scene: &Scene, ray: crate::geometry::Ray, rng: &mut crate::sampling::Rng) -> glam::Vec3 {
-        self.tracer.as_ref().map_or(glam::Vec3::ZERO, |t| t.radiance(scene, ray, rng))
-    }
-
-    #[inline]
-    fn radiance_stratified(
-        &self,
-        scene: &Scene,
-        ray: crate::geometry::Ray,
-        sample: &crate::integrator::PixelSample,
-        rng: &mut crate::sampling::Rng,
-    ) -> glam::Vec3 {
-        self.tracer.as_ref().map_or(glam::Vec3::ZERO, |t| t.radiance_stratified(scene, ray, sample, rng))
+    fn radiance(&self, scene: &Scene, ray: crate::geometry::Ray, sampler: &mut crate::sampling::Sampler) -> glam::Vec3 {
+        self.tracer.as_ref().map_or(glam::Vec3::ZERO, |t| t.radiance(scene, ray, sampler))
     }
 }

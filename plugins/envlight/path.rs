@@ -3,24 +3,23 @@
 //! BSDF sampling (cosine, Phong lobe, mirror, Fresnel dielectric), multiple importance sampling with the power
 //! heuristic, and Russian roulette. `max_depth` counts path segments as Mitsuba does (the camera ray is segment 1):
 //! 1 shows emitters only, 2 is direct lighting (the single-bounce environment lighting of the seed), -1 is
-//! unlimited. The first vertex's light and BSDF samples are stratified across the pixel's samples (Owen-scrambled
-//! Sobol points, see `PixelSample`).
+//! unlimited. Every vertex draws the same seven sampler dimensions in a fixed order — light choice (1D), light
+//! point (2D), BSDF lobe (1D), BSDF direction (2D), Russian roulette (1D) — so the low-discrepancy sampler
+//! stratifies each of them at every bounce.
 
 use super::EnvlightParams;
-use super::env_sampling::EnvSampling;
-use super::light_choice::LightChoice;
 use crate::bsdf::Bsdf;
 use crate::geometry::Ray;
-use crate::integrator::{PixelIntegrator, PixelSample};
+use crate::integrator::PixelIntegrator;
+use crate::lights::LightSampler;
 use crate::primitives::{NO_LIGHT, SurfaceHit};
-use crate::sampling::Rng;
+use crate::sampling::Sampler;
 use crate::scene::Scene;
 use glam::{Vec3, Vec3A};
 
 pub struct PathTracer {
     pub params: EnvlightParams,
-    pub env: Option<EnvSampling>,
-    pub choice: LightChoice,
+    pub lights: LightSampler,
 }
 
 /// The previous scattering vertex, for MIS weights of emission found by BSDF sampling.
@@ -55,39 +54,22 @@ impl PathTracer {
     /// Next-event estimation at `s`: one light chosen by power.
     #[inline]
     fn sample_light(&self, scene: &Scene, s: &SurfaceHit, bsdf: &Bsdf, u_choice: f32, u: glam::Vec2) -> Vec3 {
-        let (slot, p_choice) = self.choice.choose(u_choice);
-        let lights = &scene.lights;
         let n = bsdf.normal();
-        if slot == lights.len() {
-            let (Some(env), Some(es)) = (&lights.environment, &self.env) else { return Vec3::ZERO };
-            let Some((wi, pdf)) = es.sample(env, n, u) else { return Vec3::ZERO };
-            let f = bsdf.eval(wi);
-            let cos = wi.dot(n);
-            if f == Vec3::ZERO || cos <= 0.0 || scene.occluded(&s.spawn(wi)) {
-                return Vec3::ZERO;
-            }
-            let light_pdf = p_choice * pdf;
-            let w = if self.params.mis { power_heuristic(light_pdf, bsdf.pdf(wi)) } else { 1.0 };
-            return f * env.eval(wi) * (cos * w / light_pdf);
-        }
-        let Some(ls) = lights.sample(slot, &scene.prims, s.p, u) else { return Vec3::ZERO };
+        let Some(ls) = self.lights.sample_li(&scene.lights, &scene.prims, s.p, n, u_choice, u) else {
+            return Vec3::ZERO;
+        };
         let f = bsdf.eval(ls.wi);
         let cos = ls.wi.dot(n);
         if f == Vec3::ZERO || cos <= 0.0 || scene.occluded(&s.spawn_to(&ls)) {
             return Vec3::ZERO;
         }
-        let light_pdf = p_choice * ls.pdf;
-        let w = if ls.delta || !self.params.mis { 1.0 } else { power_heuristic(light_pdf, bsdf.pdf(ls.wi)) };
-        f * ls.li * (cos * w / light_pdf)
+        let w = if ls.delta || !self.params.mis { 1.0 } else { power_heuristic(ls.pdf, bsdf.pdf(ls.wi)) };
+        f * ls.li * (cos * w / ls.pdf)
     }
 }
 
 impl PixelIntegrator for PathTracer {
-    fn radiance(&self, scene: &Scene, ray: Ray, rng: &mut Rng) -> Vec3 {
-        self.radiance_stratified(scene, ray, &PixelSample::independent(), rng)
-    }
-
-    fn radiance_stratified(&self, scene: &Scene, mut ray: Ray, sample: &PixelSample, rng: &mut Rng) -> Vec3 {
+    fn radiance(&self, scene: &Scene, mut ray: Ray, sampler: &mut Sampler) -> Vec3 {
         let max_depth = self.params.max_depth;
         let mut l = Vec3::ZERO;
         let mut beta = Vec3::ONE;
@@ -97,9 +79,9 @@ impl PixelIntegrator for PathTracer {
             let Some(s) = scene.trace(&ray) else {
                 if let Some(env) = &scene.lights.environment {
                     let le = env.eval(ray.dir);
-                    let light_pdf = match (&self.env, &prev) {
-                        (Some(es), Some(p)) => self.choice.prob(scene.lights.len()) * es.pdf(env, p.n, ray.dir),
-                        _ => 0.0,
+                    let light_pdf = match &prev {
+                        Some(p) => self.lights.pdf_li_env(&scene.lights, p.n, ray.dir),
+                        None => 0.0,
                     };
                     l += beta * le * self.bsdf_weight(&prev, light_pdf);
                 } else {
@@ -113,8 +95,7 @@ impl PixelIntegrator for PathTracer {
                 if le != Vec3::ZERO {
                     let light_pdf = match &prev {
                         Some(p) if !p.delta => {
-                            self.choice.prob(s.light as usize)
-                                * scene.lights.pdf(s.light as usize, &scene.prims, p.p, &s)
+                            self.lights.pdf_li_area(&scene.lights, &scene.prims, s.light as usize, p.p, &s)
                         }
                         _ => 0.0,
                     };
@@ -125,16 +106,13 @@ impl PixelIntegrator for PathTracer {
                 break;
             }
             let Some(bsdf) = Bsdf::new(scene.material(s.material), &s, wo) else { break };
-            // The first vertex draws stratified light and BSDF samples (dimensions 0 and 1 of the pixel sample).
-            let (u_light, u_bsdf) = if depth == 0 {
-                (sample.stratified_2d(0, rng), sample.stratified_2d(1, rng))
-            } else {
-                (rng.next_2d(), rng.next_2d())
-            };
-            if bsdf.has_smooth() && !self.choice.is_empty() {
-                l += beta * self.sample_light(scene, &s, &bsdf, rng.next_f32(), u_light);
+            let (u_choice, u_light) = (sampler.next_1d(), sampler.next_2d());
+            let (u_lobe, u_bsdf) = (sampler.next_1d(), sampler.next_2d());
+            let u_rr = sampler.next_1d();
+            if bsdf.has_smooth() && !self.lights.is_empty() {
+                l += beta * self.sample_light(scene, &s, &bsdf, u_choice, u_light);
             }
-            let Some(bs) = bsdf.sample(rng.next_f32(), u_bsdf) else { break };
+            let Some(bs) = bsdf.sample(u_lobe, u_bsdf) else { break };
             beta *= bs.weight;
             if beta.max_element() <= 0.0 {
                 break;
@@ -143,7 +121,7 @@ impl PixelIntegrator for PathTracer {
             depth += 1;
             if depth >= self.params.rr_depth {
                 let q = beta.max_element().min(0.95);
-                if rng.next_f32() >= q {
+                if u_rr >= q {
                     break;
                 }
                 beta /= q;

@@ -24,7 +24,7 @@ use crate::integrator::{PerPixel, PixelIntegrator};
 use crate::material::{Material, Shading};
 use crate::math::{fresnel_dielectric, reflect, refract};
 use crate::primitives::SurfaceHit;
-use crate::sampling::{Rng, stratified_2d};
+use crate::sampling::{Rng, Sampler, stratified_2d};
 use crate::scene::Scene;
 use glam::{Vec3, Vec3A};
 use serde::Deserialize;
@@ -166,7 +166,7 @@ impl Phong {
             let mut acc = Vec3::ZERO;
             for k in 0..n {
                 let u = stratified_2d(k, n, key, rng);
-                let Some(ls) = scene.lights.sample(i, &scene.prims, s.p, u) else {
+                let Some(ls) = scene.lights.sample_li(i, &scene.prims, s.p, u) else {
                     continue;
                 };
                 let cos = ls.wi.dot(ns);
@@ -189,7 +189,7 @@ impl Phong {
 }
 
 impl PixelIntegrator for Phong {
-    fn radiance(&self, scene: &Scene, ray: Ray, rng: &mut Rng) -> Vec3 {
-        self.trace(scene, &ray, rng, 0, 1.0)
+    fn radiance(&self, scene: &Scene, ray: Ray, sampler: &mut Sampler) -> Vec3 {
+        self.trace(scene, &ray, sampler.rng(), 0, 1.0)
     }
 }

@@ -4,7 +4,7 @@
 
 use crate::app::{App, SceneSource};
 use crate::error::PrismError;
-use crate::sampling::PixelPattern;
+use crate::sampling::{PixelFilter, PixelPattern, SamplerKind};
 use crate::settings::{AccelKind, GridResolution, Overrides};
 use clap::Args;
 use std::io::IsTerminal;
@@ -47,9 +47,15 @@ pub struct RenderArgs {
     /// Worker threads (default: all cores).
     #[arg(long)]
     pub threads: Option<usize>,
-    /// Pixel sample pattern: random, stratified or rgss.
+    /// Sampler for every dimension of a sample: independent, stratified or sobol (default).
+    #[arg(long, value_parser = parse_sampler)]
+    pub sampler: Option<SamplerKind>,
+    /// Pixel positions from an explicit pattern instead of the sampler: random, stratified, uniform or rgss.
     #[arg(long, value_parser = parse_pattern)]
     pub pattern: Option<PixelPattern>,
+    /// Pixel filter: box, tent or gaussian, with its radius (sigma for gaussian) after a colon: `tent:1.5`.
+    #[arg(long, value_parser = parse_filter)]
+    pub filter: Option<PixelFilter>,
     /// PNG exposure in stops.
     #[arg(long, allow_negative_numbers = true)]
     pub exposure: Option<f32>,
@@ -80,8 +86,29 @@ pub(super) fn accel_override(accel: Option<AccelKind>, grid: Option<&[u32]>) -> 
     }
 }
 
-fn parse_pattern(s: &str) -> Result<PixelPattern, String> {
-    PixelPattern::parse(s).ok_or_else(|| format!("unknown pattern '{s}' (expected random, stratified or rgss)"))
+pub(super) fn parse_pattern(s: &str) -> Result<PixelPattern, String> {
+    PixelPattern::parse(s)
+        .ok_or_else(|| format!("unknown pattern '{s}' (expected random, stratified, uniform or rgss)"))
+}
+
+pub(super) fn parse_sampler(s: &str) -> Result<SamplerKind, String> {
+    SamplerKind::parse(s).ok_or_else(|| format!("unknown sampler '{s}' (expected {})", SamplerKind::NAMES))
+}
+
+/// `box`, `tent`, `gaussian`, optionally with `:RADIUS` (`:SIGMA` for gaussian); defaults 0.5, 1, 0.5.
+pub(super) fn parse_filter(s: &str) -> Result<PixelFilter, String> {
+    let (name, value) = match s.split_once(':') {
+        Some((n, v)) => (n, Some(v.trim().parse::<f32>().map_err(|_| format!("filter '{s}': '{v}' is not a number"))?)),
+        None => (s, None),
+    };
+    let f = match name.trim() {
+        "box" => PixelFilter::Box { radius: value.unwrap_or(0.5) },
+        "tent" => PixelFilter::Tent { radius: value.unwrap_or(1.0) },
+        "gaussian" => PixelFilter::Gaussian { sigma: value.unwrap_or(0.5) },
+        other => return Err(format!("unknown filter '{other}' (expected box, tent or gaussian)")),
+    };
+    f.validate()?;
+    Ok(f)
 }
 
 pub(super) fn parse_size(s: &str) -> Result<(u32, u32), String> {
@@ -138,7 +165,9 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
         size: args.size,
         spp: args.spp,
         passes: args.passes,
+        sampler: args.sampler,
         pattern: args.pattern,
+        filter: args.filter,
         seed: args.seed,
         time_budget: args.time,
         spp_unlimited: args.time.is_some(),
@@ -167,14 +196,14 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
         let render_s = p.elapsed.as_secs_f64();
         let samples = p.spp_done as f64 * s.width as f64 * s.height as f64;
         eprintln!(
-            "{}x{} {} spp ({} passes, {}, {}, {}) in {:.2} s render + {:.2} s setup ({:.2} Msamples/s); wrote {}",
+            "{}x{} {} spp ({} passes, {}, {}, {} sampler) in {:.2} s render + {:.2} s setup ({:.2} Msamples/s); wrote {}",
             s.width,
             s.height,
             p.spp_done,
             p.passes_done,
             s.integrator.name,
             s.accel.name(),
-            s.pattern.name(),
+            s.sampler.name(),
             render_s,
             (wall - render_s).max(0.0),
             samples / render_s.max(1e-9) / 1e6,

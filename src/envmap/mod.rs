@@ -220,6 +220,30 @@ impl EnvMap {
         }
     }
 
+    /// The integral of the looked-up radiance over the sphere, `integral map(w) dw` (RGB): each texel's mean
+    /// bilinearly filtered value over its footprint (the lookup's 3x3 kernel, with its wrap/clamp rules) times the
+    /// texel's exact solid angle. Exact for maps that are constant per face and to second order otherwise.
+    pub fn integral(&self) -> Vec3 {
+        let wrap_x = self.layout == EnvLayout::Equirect;
+        let mut sum = glam::DVec3::ZERO;
+        for (k, img) in self.images.iter().enumerate() {
+            let (w, h) = (img.width as i64, img.height as i64);
+            let at = |x: i64, y: i64| {
+                let x = if wrap_x { x.rem_euclid(w) } else { x.clamp(0, w - 1) };
+                img.texels[(y.clamp(0, h - 1) * w + x) as usize].as_dvec3()
+            };
+            for y in 0..h {
+                for x in 0..w {
+                    let edges = at(x - 1, y) + at(x + 1, y) + at(x, y - 1) + at(x, y + 1);
+                    let corners = at(x - 1, y - 1) + at(x + 1, y - 1) + at(x - 1, y + 1) + at(x + 1, y + 1);
+                    let filtered = (36.0 * at(x, y) + 6.0 * edges + corners) / 64.0;
+                    sum += filtered * self.texel_solid_angle(k, x as u32, y as u32) as f64;
+                }
+            }
+        }
+        sum.as_vec3()
+    }
+
     /// Exact solid angle of texel (x, y) of an image.
     pub fn texel_solid_angle(&self, image: usize, x: u32, y: u32) -> f32 {
         let img = &self.images[image];

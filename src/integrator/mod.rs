@@ -4,7 +4,9 @@
 //!   mapper implements this directly). It is called once per pass, so its dynamic dispatch never sits in a hot loop.
 //! - [`PixelIntegrator`]: the common case, an estimator of the radiance along one camera ray. Wrap it in
 //!   [`PerPixel`] to get an `Integrator` that renders tiles in parallel with per-pixel deterministic random numbers
-//!   and the chosen pixel pattern; `radiance` is then called statically, not through a vtable.
+//!   from the chosen [`Sampler`], the pixel filter and the camera's lens; `radiance` is then called statically, not
+//!   through a vtable. An estimator draws every random number from the sampler (`next_1d`/`next_2d`) in a fixed
+//!   order per path vertex, so the low-discrepancy sampler stratifies every dimension of the path.
 //! - [`IntegratorRegistry`]: names to factories; plugins register theirs in `Plugin::build`.
 
 mod per_pixel;
@@ -15,7 +17,7 @@ pub use registry::{IntegratorFactory, IntegratorRegistry};
 
 use crate::error::Result;
 use crate::geometry::Ray;
-use crate::sampling::Rng;
+use crate::sampling::Sampler;
 use crate::scene::Scene;
 use crate::settings::RenderSettings;
 use glam::Vec3;
@@ -73,48 +75,13 @@ pub trait Integrator: Send + Sync {
     fn render_pass(&mut self, scene: &Scene, pass: &PassInfo, cancel: &AtomicBool) -> PassOutput;
 }
 
-/// Which sample of its pixel a camera ray is: sample `index` over the whole render (of `count` when the total is
-/// known), with a per-pixel `key`. Integrators draw stratified 2D points for their first, most important
-/// dimensions from it: Owen-scrambled Sobol points, a progressive (0,2)-sequence per pixel and dimension (every
-/// prefix of 2^k samples is stratified, whatever the total), with an independent scramble per dimension.
-#[derive(Clone, Copy, Debug)]
-pub struct PixelSample {
-    pub index: u32,
-    pub count: u32,
-    pub key: u32,
-    /// False for a lone sample outside a pixel's sequence: points then come from the random generator.
-    pub stratified: bool,
-}
-
-impl PixelSample {
-    /// A lone sample (no stratification): `stratified_2d` returns independent random points.
-    pub fn independent() -> Self {
-        PixelSample { index: 0, count: 1, key: 0, stratified: false }
-    }
-
-    /// The stratified 2D point of dimension `dim` for this sample (from `rng` for an independent sample).
-    #[inline]
-    pub fn stratified_2d(&self, dim: u32, rng: &mut Rng) -> glam::Vec2 {
-        if !self.stratified {
-            return rng.next_2d();
-        }
-        let key = self.key ^ (dim.wrapping_add(1)).wrapping_mul(0x9E37_79B9);
-        crate::sampling::sobol_owen_2d(self.index, key)
-    }
-}
-
 /// An estimator of the radiance arriving along a camera ray.
 pub trait PixelIntegrator: Send + Sync {
     fn prepare(&mut self, _scene: &Scene, _settings: &RenderSettings) -> Result<()> {
         Ok(())
     }
 
-    /// Radiance along `ray` (towards its origin), using `rng` for every random decision.
-    fn radiance(&self, scene: &Scene, ray: Ray, rng: &mut Rng) -> Vec3;
-
-    /// As `radiance`, with the camera sample's place among its pixel's samples for stratified dimensions.
-    /// `PerPixel` calls this; the default ignores the stratification.
-    fn radiance_stratified(&self, scene: &Scene, ray: Ray, _sample: &PixelSample, rng: &mut Rng) -> Vec3 {
-        self.radiance(scene, ray, rng)
-    }
+    /// Radiance along `ray` (towards its origin), drawing every random decision from `sampler` (its camera
+    /// dimensions are already used: the next request is the integrator's first).
+    fn radiance(&self, scene: &Scene, ray: Ray, sampler: &mut Sampler) -> Vec3;
 }

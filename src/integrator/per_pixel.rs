@@ -1,9 +1,14 @@
 //! Tile-parallel rendering of a [`PixelIntegrator`]: rayon over 16x16 tiles, each pixel's random numbers seeded
-//! from (seed, pixel, pass), so the image does not depend on the number of threads or the order tiles run in.
+//! from (seed, pixel, pass) and its sampler's scramble from (seed, pixel), so the image does not depend on the number
+//! of threads or the order tiles run in.
+//!
+//! Per camera sample: the sampler's dimensions 0-1 place the sample in the pixel (or an explicit pattern does),
+//! warped by the pixel filter around the pixel centre; dimensions 2-3 are the lens sample (drawn only for a thin
+//! lens, skipped otherwise so the integrator's dimensions do not move); the integrator continues from dimension 4.
 
-use super::{Integrator, PassInfo, PassOutput, PixelIntegrator, PixelSample, Tile, TileSamples};
+use super::{Integrator, PassInfo, PassOutput, PixelIntegrator, Tile, TileSamples};
 use crate::error::Result;
-use crate::sampling::{Rng, hash_u64};
+use crate::sampling::{Rng, Sampler, hash_u64};
 use crate::scene::Scene;
 use crate::settings::RenderSettings;
 use glam::{Vec2, Vec3};
@@ -29,31 +34,40 @@ pub struct PerPixel<T>(pub T);
 impl<T: PixelIntegrator> PerPixel<T> {
     fn render_tile(&self, scene: &Scene, pass: &PassInfo, tile: Tile) -> TileSamples {
         let s = pass.settings;
+        let pattern = s.pixel_pattern();
+        let camera = &scene.camera;
         let mut sums = Vec::with_capacity((tile.w * tile.h) as usize);
         let mut nonfinite = 0;
         for y in tile.y0..tile.y0 + tile.h {
             for x in tile.x0..tile.x0 + tile.w {
                 let pixel = y as u64 * s.width as u64 + x as u64;
-                let mut rng = Rng::for_pixel(s.seed, pixel, pass.index as u64);
-                // With a known total, pixel positions are stratified over the whole render (the pixel's key is the
-                // same in every pass, each pass takes the next sample indices); otherwise within the pass. The
-                // integrator's own dimensions always continue one progressive sequence per pixel.
                 let pixel_key = hash_u64(s.seed ^ hash_u64(pixel)) as u32;
+                let mut sampler = Sampler::new(s.sampler, pixel_key, Rng::for_pixel(s.seed, pixel, pass.index as u64));
+                // With a known total, a pattern stratifies pixel positions over the whole render (the pixel's key is
+                // the same in every pass, each pass takes the next sample indices); otherwise within the pass.
                 let (base, total, key) = match s.spp {
                     Some(n) => (pass.first_sample as u32, n, pixel_key),
-                    None => (0, pass.spp, rng.next_u32()),
+                    None => (0, pass.spp, sampler.rng().next_u32()),
                 };
+                let centre = Vec2::new(x as f32 + 0.5, y as f32 + 0.5);
                 let mut sum = Vec3::ZERO;
                 for i in 0..pass.spp {
-                    let off = s.pattern.offset(base + i, total, key, &mut rng);
-                    let ray = scene.camera.generate_ray(Vec2::new(x as f32 + off.x, y as f32 + off.y));
-                    let sample = PixelSample {
-                        index: pass.first_sample as u32 + i,
-                        count: s.spp.unwrap_or(0),
-                        key: pixel_key.rotate_left(16) ^ 0x5bd1_e995,
-                        stratified: true,
+                    sampler.start(pass.first_sample as u32 + i);
+                    let u_pixel = match pattern {
+                        Some(p) => {
+                            sampler.skip_2d();
+                            p.offset(base + i, total, key, sampler.rng())
+                        }
+                        None => sampler.next_2d(),
                     };
-                    let l = self.0.radiance_stratified(scene, ray, &sample, &mut rng);
+                    let u_lens = if camera.has_lens() {
+                        sampler.next_2d()
+                    } else {
+                        sampler.skip_2d();
+                        Vec2::ZERO
+                    };
+                    let ray = camera.generate_ray_lens(centre + s.filter.warp(u_pixel), u_lens);
+                    let l = self.0.radiance(scene, ray, &mut sampler);
                     if l.is_finite() {
                         sum += l;
                     } else {

@@ -1,9 +1,18 @@
 //! The environment light: radiance arriving from infinitely far away, constant or from an [`EnvMap`] rotated by
-//! its entity's transform. Integrators that importance-sample it build their own sampler in Prepare (the
-//! `envlight` plugin's quad-tree), so scenes without an environment pay nothing.
+//! its entity's transform. Next-event estimation and emission draw directions from an [`EnvSampling`] (quad-tree by
+//! default), which integrators build in Prepare only when the scene has an environment light.
+//!
+//! Emitted rays (photons, light paths): a direction `w` towards the environment from the sampler (solid-angle pdf),
+//! then an origin uniform on the disk of radius R perpendicular to `w`, centred R beyond the scene centre along `w`;
+//! the ray travels along `-w` and carries `L(w)`. Power: `pi R^2 integral L(w) dw`.
 
+use super::{EnvSampling, LeSample, SceneSphere};
 use crate::envmap::EnvMap;
-use glam::{Affine3A, Mat3A, Vec3, Vec3A};
+use crate::geometry::Ray;
+use crate::math::Frame;
+use crate::sampling::warp;
+use glam::{Affine3A, Mat3A, Vec2, Vec3, Vec3A};
+use std::f32::consts::PI;
 use std::sync::Arc;
 
 #[derive(Clone, Debug)]
@@ -14,12 +23,18 @@ pub struct EnvironmentLight {
     /// Maps world directions into the map's frame (the inverse of the entity's rotation).
     pub env_from_world: Mat3A,
     pub world_from_env: Mat3A,
+    /// `integral L(w) dw` over the sphere (RGB).
+    pub integral: Vec3,
 }
 
 impl EnvironmentLight {
     pub fn new(radiance: Vec3, map: Option<Arc<EnvMap>>, world_from_local: &Affine3A) -> Self {
         let world_from_env = world_from_local.matrix3;
-        EnvironmentLight { radiance, map, env_from_world: world_from_env.inverse(), world_from_env }
+        let integral = match &map {
+            None => radiance * (4.0 * PI),
+            Some(m) => radiance * m.integral(),
+        };
+        EnvironmentLight { radiance, map, env_from_world: world_from_env.inverse(), world_from_env, integral }
     }
 
     /// Radiance arriving from the unit world direction `dir` (i.e. seen looking along `dir`).
@@ -41,5 +56,32 @@ impl EnvironmentLight {
     #[inline]
     pub fn to_env(&self, d: Vec3A) -> Vec3A {
         (self.env_from_world * d).normalize()
+    }
+
+    /// Power entering the scene's bounding sphere: `pi R^2 integral L dw`.
+    pub fn power(&self, sphere: &SceneSphere) -> Vec3 {
+        self.integral * (PI * sphere.radius * sphere.radius)
+    }
+
+    /// An emitted ray: a direction from `sampling` (`u_dir`), an origin on the covering disk (`u_pos`).
+    #[inline]
+    pub fn sample_le(
+        &self,
+        sampling: &EnvSampling,
+        sphere: &SceneSphere,
+        u_pos: Vec2,
+        u_dir: Vec2,
+    ) -> Option<LeSample> {
+        let (w, pdf_dir) = sampling.sample_emission(self, u_dir)?;
+        let le = self.eval(w);
+        let f = Frame::from_normal(w);
+        let d = warp::concentric_disk(u_pos) * sphere.radius;
+        let origin = sphere.center + w * sphere.radius + f.s * d.x + f.t * d.y;
+        Some(LeSample { ray: Ray::new(origin, -w), le, n: -w, pdf_pos: sphere.disk_pdf(), pdf_dir })
+    }
+
+    /// Position (area on the disk) and direction (solid angle) pdfs of an emitted ray travelling along `dir`.
+    pub fn pdf_le(&self, sampling: &EnvSampling, sphere: &SceneSphere, dir: Vec3A) -> (f32, f32) {
+        (sphere.disk_pdf(), sampling.pdf_emission(self, -dir))
     }
 }

@@ -1,21 +1,44 @@
-//! Light sources resolved to world space (Prepare stage), with sampling for next-event estimation.
+//! Light sources resolved to world space (Prepare stage). Every light owns its emission (pbrt-v4's interface):
+//! - `sample_li`/`pdf_li`: next-event estimation — the radiance arriving at a reference point from a sampled point
+//!   of the light, with its solid-angle pdf (a delta for point, spot and directional lights);
+//! - `sample_le`/`pdf_le`: emitted rays for photon and light tracing, with separate position (area) and direction
+//!   (solid angle) pdfs; [`LeSample::flux`] is the power one sample carries;
+//! - `power`: total emitted power (RGB, W), what light selection weighs.
 //!
-//! Area lights come first, in the order of their slot in `SurfaceHit::light`, so a surface hit names its light
-//! directly. Every `sample` returns the radiance arriving at the reference point and a pdf in solid angle (or a
-//! delta for point and directional lights); `pdf` gives the same density for a direction that hit the light, as
-//! multiple importance sampling needs. Sampling schemes:
-//! - triangle sets: a triangle chosen in proportion to its area, then a uniform point on it;
-//! - spheres (world-space): uniform in the cone the sphere subtends (pbrt's scheme), uniform by area from inside;
-//! - ellipsoids (spheres under non-uniform scale): uniform on the object-space sphere, with the exact area Jacobian.
+//! Light types: area lights (emissive triangle sets and spheres, `area.rs`), point (`point.rs`), spot (`spot.rs`),
+//! directional (`directional.rs`) and the environment (`environment.rs`, sampled through `EnvSampling`: quad-tree,
+//! piecewise-constant, uniform or cosine). Distant lights (directional, environment) emit from a disk covering the
+//! scene's bounding sphere ([`SceneSphere`]). [`LightSampler`] chooses one light in proportion to its power and
+//! samples it, for any integrator.
+//!
+//! Area lights come first in `LightSet::lights`, in the order of their slot in `SurfaceHit::light`, so a surface
+//! hit names its light directly; the environment, if any, is slot `lights.len()`.
 
 mod area;
+mod directional;
+mod env_sampling;
 mod environment;
+mod light_sampler;
+mod piecewise;
+mod point;
+mod power_sampler;
+mod quadtree;
+mod spot;
 
 pub use area::{AreaLight, AreaShape};
+pub use directional::DirectionalLight;
+pub use env_sampling::{EnvSampling, EnvStrategy};
 pub use environment::EnvironmentLight;
+pub use light_sampler::LightSampler;
+pub use piecewise::Piecewise2D;
+pub use point::PointLight;
+pub use power_sampler::PowerLightSampler;
+pub use quadtree::{DELTA, EPSILON, EnvSample, QuadTree};
+pub use spot::SpotLight;
 
 use crate::components::{Light, WorldFromLocal};
 use crate::error::{PrismError, Result};
+use crate::geometry::{Bounds, Ray};
 use crate::primitives::{EntityPrims, Primitives, SurfaceHit};
 use glam::{Vec2, Vec3, Vec3A};
 
@@ -39,28 +62,86 @@ pub struct LightSample {
     pub delta: bool,
 }
 
+impl LightSample {
+    /// A delta light's sample: light at `p`, direction `wi`, irradiance at normal incidence `li`.
+    #[inline]
+    pub fn delta(p: Vec3A, wi: Vec3A, dist: f32, li: Vec3) -> Self {
+        LightSample { p, p_err: Vec3A::ZERO, n: Vec3A::ZERO, wi, dist, li, pdf: 1.0, delta: true }
+    }
+}
+
+/// An emitted ray with its pdfs (for photon and light tracing).
+#[derive(Clone, Copy, Debug)]
+pub struct LeSample {
+    /// The ray leaving the light (unit direction; origin offset off the emitting surface).
+    pub ray: Ray,
+    /// What the ray carries: radiance (area and environment lights), intensity (point and spot lights) or
+    /// irradiance (directional lights).
+    pub le: Vec3,
+    /// Unit normal of the emitting surface or disk at the origin (zero for point and spot lights).
+    pub n: Vec3A,
+    /// Density of the origin in area measure (1 for point and spot lights).
+    pub pdf_pos: f32,
+    /// Density of the direction in solid angle (1 for directional lights).
+    pub pdf_dir: f32,
+}
+
+impl LeSample {
+    /// The power this sample carries, `le |cos| / (pdf_pos pdf_dir)`: the mean over samples is the light's power.
+    #[inline]
+    pub fn flux(&self) -> Vec3 {
+        let cos = if self.n == Vec3A::ZERO { 1.0 } else { self.n.dot(self.ray.dir).abs() };
+        self.le * (cos / (self.pdf_pos * self.pdf_dir))
+    }
+}
+
+/// The sphere bounding the scene's bounded primitives: distant lights emit from a disk of its radius.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SceneSphere {
+    pub center: Vec3A,
+    pub radius: f32,
+}
+
+impl Default for SceneSphere {
+    fn default() -> Self {
+        SceneSphere { center: Vec3A::ZERO, radius: 1.0 }
+    }
+}
+
+impl SceneSphere {
+    /// The bounding sphere of `bounds` (a unit sphere at the origin for an empty scene).
+    pub fn from_bounds(bounds: &Bounds) -> Self {
+        if bounds.is_empty() || !bounds.diagonal().is_finite() {
+            return SceneSphere::default();
+        }
+        let center = 0.5 * (bounds.min + bounds.max);
+        let radius = (0.5 * bounds.diagonal().length()).max(1e-4 * center.abs().max_element()).max(1e-6);
+        SceneSphere { center, radius: radius * (1.0 + 1e-4) }
+    }
+
+    /// Area pdf of a uniform point on a disk of the sphere's radius.
+    #[inline]
+    pub fn disk_pdf(&self) -> f32 {
+        1.0 / (std::f32::consts::PI * self.radius * self.radius)
+    }
+}
+
+/// A light other than the environment.
 #[derive(Clone, Debug)]
 pub enum LightSource {
     Area(AreaLight),
-    /// Irradiance `intensity cos / (a0 + a1 d + a2 d^2)`, `attenuation = (a0, a1, a2)`.
-    Point {
-        position: Vec3A,
-        intensity: Vec3,
-        attenuation: Vec3,
-    },
-    /// `to_light` is the unit direction towards the light (opposite to the direction it travels).
-    Directional {
-        to_light: Vec3A,
-        irradiance: Vec3,
-    },
+    Point(PointLight),
+    Spot(SpotLight),
+    Directional(DirectionalLight),
 }
 
-/// The scene's lights: `lights` are sampled by `sample` (area lights first, in slot order); the environment, if
-/// any, is kept apart because the integrators that importance-sample it own that sampler.
+/// The scene's lights: `lights` (area lights first, in slot order), the environment (slot `lights.len()`), and the
+/// sphere distant lights emit from.
 #[derive(Clone, Debug, Default)]
 pub struct LightSet {
     pub lights: Vec<LightSource>,
     pub environment: Option<EnvironmentLight>,
+    pub sphere: SceneSphere,
 }
 
 impl LightSet {
@@ -81,38 +162,46 @@ impl LightSet {
         others.sort_by_key(|(e, ..)| e.id());
         for (entity, light, wfl) in others {
             let m = wfl.map(|w| w.0).unwrap_or_default();
+            let label = || crate::load::entity_label(world, entity);
             match light {
-                Light::Point { intensity, position, attenuation } => lights.push(LightSource::Point {
+                Light::Point { intensity, position, attenuation } => lights.push(LightSource::Point(PointLight {
                     position: m.transform_point3a((*position).into()),
                     intensity: *intensity,
                     attenuation: *attenuation,
-                }),
+                })),
+                Light::Spot { intensity, position, direction, cone_angle, falloff } => {
+                    let axis = m
+                        .transform_vector3a((*direction).into())
+                        .try_normalize()
+                        .ok_or_else(|| PrismError::scene(label(), "spot light has a zero direction"))?;
+                    lights.push(LightSource::Spot(SpotLight::new(
+                        m.transform_point3a((*position).into()),
+                        axis,
+                        *intensity,
+                        *cone_angle,
+                        *falloff,
+                    )))
+                }
                 Light::Environment { radiance, map } => {
                     if environment.is_some() {
-                        return Err(PrismError::scene(
-                            crate::load::entity_label(world, entity),
-                            "a scene can have only one environment light",
-                        ));
+                        return Err(PrismError::scene(label(), "a scene can have only one environment light"));
                     }
                     environment = Some(EnvironmentLight::new(*radiance, map.clone(), &m));
                 }
                 Light::Directional { irradiance, direction } => {
-                    let irradiance = *irradiance;
                     let d = m.transform_vector3a((*direction).into());
-                    let to_light = (-d).try_normalize().ok_or_else(|| {
-                        PrismError::scene(
-                            crate::load::entity_label(world, entity),
-                            "directional light has a zero direction",
-                        )
-                    })?;
-                    lights.push(LightSource::Directional { to_light, irradiance })
+                    let to_light = (-d)
+                        .try_normalize()
+                        .ok_or_else(|| PrismError::scene(label(), "directional light has a zero direction"))?;
+                    lights.push(LightSource::Directional(DirectionalLight { to_light, irradiance: *irradiance }))
                 }
                 Light::Area { .. } => {}
             }
         }
-        Ok(LightSet { lights, environment })
+        Ok(LightSet { lights, environment, sphere: SceneSphere::from_bounds(&prims.bounds) })
     }
 
+    /// Number of lights other than the environment.
     pub fn len(&self) -> usize {
         self.lights.len()
     }
@@ -121,60 +210,63 @@ impl LightSet {
         self.lights.is_empty()
     }
 
-    /// True for point and directional lights (sampled once, no stratification needed).
+    /// True for point, spot and directional lights (sampled once, no stratification needed).
     pub fn is_delta(&self, i: usize) -> bool {
         !matches!(self.lights[i], LightSource::Area(_))
     }
 
     /// Sample light `i` from reference point `p`. `None` when the sample carries no light (back of a one-sided
-    /// emitter, or `p` on the light's plane).
+    /// emitter, `p` on the light's plane, outside a spot's cone).
     #[inline]
-    pub fn sample(&self, i: usize, prims: &Primitives, p: Vec3A, u: Vec2) -> Option<LightSample> {
+    pub fn sample_li(&self, i: usize, prims: &Primitives, p: Vec3A, u: Vec2) -> Option<LightSample> {
         match &self.lights[i] {
             LightSource::Area(a) => a.sample(prims, p, u),
-            LightSource::Point { position, intensity, attenuation } => {
-                let d = *position - p;
-                let dist2 = d.length_squared();
-                if dist2 == 0.0 {
-                    return None;
-                }
-                let dist = dist2.sqrt();
-                let falloff = if *attenuation == Vec3::Z {
-                    dist2
-                } else {
-                    attenuation.x + attenuation.y * dist + attenuation.z * dist2
-                };
-                Some(LightSample {
-                    p: *position,
-                    p_err: Vec3A::ZERO,
-                    n: Vec3A::ZERO,
-                    wi: d / dist,
-                    dist,
-                    li: *intensity / falloff,
-                    pdf: 1.0,
-                    delta: true,
-                })
-            }
-            LightSource::Directional { to_light, irradiance } => Some(LightSample {
-                p: p + *to_light * 1e30,
-                p_err: Vec3A::ZERO,
-                n: Vec3A::ZERO,
-                wi: *to_light,
-                dist: f32::INFINITY,
-                li: *irradiance,
-                pdf: 1.0,
-                delta: true,
-            }),
+            LightSource::Point(l) => l.sample_li(p),
+            LightSource::Spot(l) => l.sample_li(p),
+            LightSource::Directional(l) => Some(l.sample_li(p)),
         }
     }
 
-    /// Solid-angle pdf with which `sample` would have produced the direction from `p` to the light point `s`
-    /// (a surface hit on area light `i`).
+    /// Solid-angle pdf with which `sample_li` would have produced the direction from `p` to the light point `s`
+    /// (a surface hit on area light `i`); 0 for delta lights.
     #[inline]
-    pub fn pdf(&self, i: usize, prims: &Primitives, p: Vec3A, s: &SurfaceHit) -> f32 {
+    pub fn pdf_li(&self, i: usize, prims: &Primitives, p: Vec3A, s: &SurfaceHit) -> f32 {
         match &self.lights[i] {
             LightSource::Area(a) => a.pdf(prims, p, s),
             _ => 0.0,
+        }
+    }
+
+    /// Total emitted power of light `i` (slot `len()` is the environment).
+    pub fn power(&self, i: usize, prims: &Primitives) -> Vec3 {
+        match self.lights.get(i) {
+            Some(LightSource::Area(a)) => a.power(prims),
+            Some(LightSource::Point(l)) => l.power(),
+            Some(LightSource::Spot(l)) => l.power(),
+            Some(LightSource::Directional(l)) => l.power(&self.sphere),
+            None => self.environment.as_ref().map_or(Vec3::ZERO, |e| e.power(&self.sphere)),
+        }
+    }
+
+    /// An emitted ray of light `i` (not the environment: see [`LightSampler::sample_le`]).
+    #[inline]
+    pub fn sample_le(&self, i: usize, prims: &Primitives, u_pos: Vec2, u_dir: Vec2) -> Option<LeSample> {
+        match &self.lights[i] {
+            LightSource::Area(a) => a.sample_le(prims, u_pos, u_dir),
+            LightSource::Point(l) => Some(l.sample_le(u_dir)),
+            LightSource::Spot(l) => l.sample_le(u_dir),
+            LightSource::Directional(l) => Some(l.sample_le(&self.sphere, u_pos)),
+        }
+    }
+
+    /// Position and direction pdfs of an emitted ray of light `i` starting at `p` (unit normal `n` there, for
+    /// area lights) in unit direction `dir`.
+    pub fn pdf_le(&self, i: usize, prims: &Primitives, p: Vec3A, n: Vec3A, dir: Vec3A) -> (f32, f32) {
+        match &self.lights[i] {
+            LightSource::Area(a) => a.pdf_le(prims, p, n, dir),
+            LightSource::Point(l) => l.pdf_le(),
+            LightSource::Spot(l) => l.pdf_le(dir),
+            LightSource::Directional(l) => l.pdf_le(&self.sphere),
         }
     }
 

@@ -1,7 +1,7 @@
 //! The RON scene schema: what a user writes. Every struct denies unknown fields and defaults whatever has a
 //! sensible default, so a minimal scene is a few lines. See README "Scene format" for the reference.
 
-use crate::sampling::PixelPattern;
+use crate::sampling::{PixelFilter, PixelPattern, SamplerKind};
 use ron::value::RawValue;
 use serde::Deserialize;
 
@@ -36,6 +36,12 @@ fn default_eye() -> V3 {
 }
 fn default_fov() -> f32 {
     40.0
+}
+fn default_cone() -> f32 {
+    30.0
+}
+fn default_falloff() -> f32 {
+    5.0
 }
 fn default_size() -> (u32, u32) {
     (256, 256)
@@ -80,8 +86,15 @@ pub struct RenderDesc<'a> {
     /// Progressive passes the samples are split into.
     #[serde(default)]
     pub passes: Option<u32>,
+    /// `independent`, `stratified` or `sobol` (the default).
+    #[serde(default)]
+    pub sampler: Option<SamplerKind>,
+    /// Pixel positions from an explicit pattern: `random`, `stratified`, `uniform`, `rgss`.
     #[serde(default)]
     pub pattern: Option<PixelPattern>,
+    /// `Box(radius: 0.5)` (default), `Tent(radius: 1)`, `Gaussian(sigma: 0.5)`.
+    #[serde(default)]
+    pub filter: Option<PixelFilter>,
     #[serde(default)]
     pub seed: Option<u64>,
     /// Time budget in seconds: stop after the pass that crosses it.
@@ -116,6 +129,12 @@ pub struct CameraDesc {
     /// View height in world units: makes the camera orthographic.
     #[serde(default)]
     pub orthographic: Option<f32>,
+    /// Thin lens: radius of the aperture in world units (0: pinhole).
+    #[serde(default)]
+    pub aperture_radius: f32,
+    /// Thin lens: distance of the plane in focus along the view direction (default: eye to target).
+    #[serde(default)]
+    pub focus_distance: Option<f32>,
     /// Image width and height in pixels.
     #[serde(default = "default_size")]
     pub size: (u32, u32),
@@ -277,6 +296,21 @@ pub enum LightDesc {
         position: V3,
         #[serde(default = "inverse_square")]
         attenuation: V3,
+    },
+    /// Spot light at `position` pointing along `direction` (or at `target`): `intensity` (W/sr) on its axis and
+    /// inside the cone of half-angle `cone_angle - falloff` (degrees), falling smoothly to 0 at `cone_angle`.
+    Spot {
+        intensity: V3,
+        #[serde(default)]
+        position: V3,
+        #[serde(default)]
+        direction: Option<V3>,
+        #[serde(default)]
+        target: Option<V3>,
+        #[serde(default = "default_cone")]
+        cone_angle: f32,
+        #[serde(default = "default_falloff")]
+        falloff: f32,
     },
     /// Distant light travelling along `direction`; `irradiance` in W/m^2 on a surface facing it.
     Directional {

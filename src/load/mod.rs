@@ -117,6 +117,8 @@ fn load_obj_scene(path: &Path, world: &mut World, res: &mut Resources) -> Result
             projection: Projection::Perspective { fov_y: fov },
             width: 256,
             height: 256,
+            aperture_radius: 0.0,
+            focus_distance: dist,
         },
     ));
     world.spawn((
@@ -166,7 +168,9 @@ fn resolve_settings(world: &mut World, res: &mut Resources, f: FileSettings) -> 
         spp,
         passes,
         pass_spp,
-        pattern: o.pattern.or(f.pattern).unwrap_or(d.pattern),
+        sampler: o.sampler.or(f.sampler).unwrap_or(d.sampler),
+        pattern: o.pattern.or(f.pattern),
+        filter: o.filter.or(f.filter).unwrap_or(d.filter),
         seed: o.seed.or(f.seed).unwrap_or(d.seed),
         time_budget,
         integrator,

@@ -11,7 +11,7 @@ use crate::components::{Camera, Light, MaterialId, Name, Parent, Projection, Sha
 use crate::error::{PrismError, Result};
 use crate::material::{Material, Shading};
 use crate::mesh::MeshData;
-use crate::sampling::PixelPattern;
+use crate::sampling::{PixelFilter, PixelPattern, SamplerKind};
 use crate::settings::{AccelKind, GridResolution, PluginConfig};
 use glam::{Vec2, Vec3};
 use hecs::{Entity, EntityBuilder, World};
@@ -25,7 +25,9 @@ pub struct FileSettings {
     pub accel: Option<AccelKind>,
     pub spp: Option<u32>,
     pub passes: Option<u32>,
+    pub sampler: Option<SamplerKind>,
     pub pattern: Option<PixelPattern>,
+    pub filter: Option<PixelFilter>,
     pub seed: Option<u64>,
     pub time: Option<f64>,
     pub exposure: Option<f32>,
@@ -98,7 +100,12 @@ pub fn spawn_scene(
         accel: accel_kind(r.accel, r.grid, &ctx)?,
         spp: r.spp,
         passes: r.passes,
+        sampler: r.sampler,
         pattern: r.pattern,
+        filter: match r.filter {
+            Some(f) => Some(f.validate().map(|_| f).map_err(|e| PrismError::scene(&ctx, format!("render: {e}")))?),
+            None => None,
+        },
         seed: r.seed,
         time: r.time,
         exposure: r.exposure,
@@ -148,7 +155,23 @@ pub fn camera_component(c: &CameraDesc, ctx: &str) -> Result<Camera> {
             "eye, target and up do not define a view (eye == target or up parallel to the view)",
         ));
     }
-    Ok(Camera { eye, target, up, projection, width: c.size.0, height: c.size.1 })
+    if !(c.aperture_radius.is_finite() && c.aperture_radius >= 0.0) {
+        return Err(PrismError::scene(ctx, format!("aperture_radius must be >= 0, got {}", c.aperture_radius)));
+    }
+    let focus_distance = c.focus_distance.unwrap_or(fwd.length());
+    if !(focus_distance.is_finite() && focus_distance > 0.0) {
+        return Err(PrismError::scene(ctx, format!("focus_distance must be positive, got {focus_distance}")));
+    }
+    Ok(Camera {
+        eye,
+        target,
+        up,
+        projection,
+        width: c.size.0,
+        height: c.size.1,
+        aperture_radius: c.aperture_radius,
+        focus_distance,
+    })
 }
 
 impl Spawner<'_> {
@@ -245,6 +268,42 @@ impl Spawner<'_> {
                     attenuation,
                 })
             }
+            Some(LightDesc::Spot { intensity, position, direction, target, cone_angle, falloff }) => {
+                let position = point(*position, "position", &ctx)?;
+                let direction = match (direction, target) {
+                    (Some(_), Some(_)) => {
+                        return Err(PrismError::scene(&ctx, "spot light: give `direction` or `target`, not both"));
+                    }
+                    (Some(d), None) => point(*d, "direction", &ctx)?,
+                    (None, Some(t)) => point(*t, "target", &ctx)? - position,
+                    (None, None) => Vec3::NEG_Y,
+                };
+                if direction == Vec3::ZERO {
+                    return Err(PrismError::scene(
+                        &ctx,
+                        "spot light direction is the zero vector (target == position)",
+                    ));
+                }
+                if !(cone_angle.is_finite() && *cone_angle > 0.0 && *cone_angle <= 180.0) {
+                    return Err(PrismError::scene(
+                        &ctx,
+                        format!("spot light cone_angle must be in (0, 180] degrees, got {cone_angle}"),
+                    ));
+                }
+                if !(falloff.is_finite() && *falloff >= 0.0 && falloff <= cone_angle) {
+                    return Err(PrismError::scene(
+                        &ctx,
+                        format!("spot light falloff must be in [0, cone_angle = {cone_angle}] degrees, got {falloff}"),
+                    ));
+                }
+                Some(Light::Spot {
+                    intensity: color(*intensity, "intensity", &ctx)?,
+                    position,
+                    direction,
+                    cone_angle: *cone_angle,
+                    falloff: *falloff,
+                })
+            }
             Some(LightDesc::Directional { irradiance, direction }) => {
                 let d = point(*direction, "direction", &ctx)?;
                 if d == Vec3::ZERO {
@@ -285,10 +344,13 @@ impl Spawner<'_> {
                     "an area light needs a shape (sphere, triangle, quad, cube or mesh)",
                 ));
             }
-            (Some(Light::Point { .. } | Light::Directional { .. } | Light::Environment { .. }), Some(_)) => {
+            (
+                Some(Light::Point { .. } | Light::Spot { .. } | Light::Directional { .. } | Light::Environment { .. }),
+                Some(_),
+            ) => {
                 return Err(PrismError::scene(
                     &ctx,
-                    "a point, directional or environment light cannot have a shape; use an Area light or a child entity",
+                    "a point, spot, directional or environment light cannot have a shape; use an Area light or a child entity",
                 ));
             }
             _ => {}

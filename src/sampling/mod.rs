@@ -1,17 +1,22 @@
 //! Random numbers and sample distributions: a PCG32 generator seeded per (seed, pixel, pass) so images do not
-//! depend on thread scheduling, pixel sample patterns (RGSS, stratified jitter, independent), and warps from the
+//! depend on thread scheduling, samplers (independent, stratified, Owen-scrambled Sobol over every dimension), pixel
+//! sample patterns (RGSS, stratified jitter, uniform grid, independent), pixel filters, and warps from the
 //! unit square to the domains integrators need, each with its exact pdf (tested by chi-square in `tests/sampling`).
 
+mod filter;
 mod pattern;
 mod permute;
 mod rng;
+mod sampler;
 mod sobol;
 pub mod warp;
 
+pub use filter::{MAX_FILTER_RADIUS, PixelFilter};
 pub use pattern::PixelPattern;
 pub use permute::permute;
 pub use rng::{Rng, hash_u64};
-pub use sobol::{nested_uniform_scramble, sobol_owen_2d};
+pub use sampler::{CAMERA_DIMENSIONS, Sampler, SamplerKind};
+pub use sobol::{nested_uniform_scramble, sobol_dim1_fast, sobol_dim1_reference, sobol_owen_2d};
 
 /// Stratified 2D points for `count` samples: the unit square is cut into `n x n` strata with `n = ceil(sqrt(count))`,
 /// sample `i` takes the `i`-th stratum of a random permutation and jitters inside it. Every sample is uniform on the

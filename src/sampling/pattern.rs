@@ -3,6 +3,8 @@
 //! - `Random`: independent uniform positions.
 //! - `Stratified`: the pixel cut into n x n strata (n = ceil(sqrt(k)) for k samples in the pass), one jittered
 //!   sample per stratum chosen in random order, so any sample count stays unbiased.
+//! - `Uniform`: the 6.837 course's regular grid: sample i of k at the centre of cell i of an n x n grid
+//!   (n = ceil(sqrt(k))), no randomness (a deterministic quadrature, biased like the course's).
 //! - `Rgss`: the 4-sample rotated grid (offsets 1/8, 3/8, 5/8, 7/8 on both axes, no two sharing a row or column);
 //!   each group of 4 samples gets its own random toroidal shift (Cranley–Patterson rotation), which keeps the
 //!   rotated-grid structure and makes the estimate unbiased when passes are averaged.
@@ -16,6 +18,7 @@ pub enum PixelPattern {
     Random,
     #[default]
     Stratified,
+    Uniform,
     Rgss,
 }
 
@@ -27,6 +30,7 @@ impl PixelPattern {
         match s {
             "random" | "independent" => Some(Self::Random),
             "stratified" | "jitter" => Some(Self::Stratified),
+            "uniform" => Some(Self::Uniform),
             "rgss" => Some(Self::Rgss),
             _ => None,
         }
@@ -36,6 +40,7 @@ impl PixelPattern {
         match self {
             Self::Random => "random",
             Self::Stratified => "stratified",
+            Self::Uniform => "uniform",
             Self::Rgss => "rgss",
         }
     }
@@ -47,6 +52,11 @@ impl PixelPattern {
         match self {
             Self::Random => rng.next_2d(),
             Self::Stratified => stratified_2d(i, count, scramble, rng),
+            Self::Uniform => {
+                let n = (count as f32).sqrt().ceil().max(1.0) as u32;
+                let cell = i % (n * n);
+                Vec2::new(((cell % n) as f32 + 0.5) / n as f32, ((cell / n) as f32 + 0.5) / n as f32)
+            }
             Self::Rgss => {
                 let group = i / 4;
                 let in_group = count.saturating_sub(group * 4).min(4);

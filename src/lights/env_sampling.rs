@@ -1,7 +1,8 @@
-//! How the path tracer samples the environment light for next-event estimation: the quad-tree (default), the
-//! piecewise-constant 2D baseline, uniform directions on the sphere, or cosine-weighted directions around the
-//! shading normal (no knowledge of the map). A constant environment is sampled uniformly whatever the choice,
-//! which is exact importance sampling for it. Built in Prepare only when the scene has an environment light.
+//! How directions towards the environment light are sampled, for next-event estimation and for emitted rays: the
+//! quad-tree (default), the piecewise-constant 2D baseline, uniform directions on the sphere, or cosine-weighted
+//! directions around the shading normal (no knowledge of the map; emission, which has no normal, then samples
+//! uniformly). A constant environment is sampled uniformly whatever the choice, which is exact importance sampling
+//! for it. Built in Prepare by the integrators that sample the environment, only when the scene has one.
 
 use super::piecewise::Piecewise2D;
 use super::quadtree::QuadTree;
@@ -22,6 +23,7 @@ pub enum EnvStrategy {
     Cosine,
 }
 
+#[derive(Clone, Debug)]
 enum Sampler {
     Uniform,
     Cosine,
@@ -31,6 +33,7 @@ enum Sampler {
     Black,
 }
 
+#[derive(Clone, Debug)]
 pub struct EnvSampling {
     sampler: Sampler,
 }
@@ -74,6 +77,25 @@ impl EnvSampling {
                 p.sample(map, u).map(|(d, pdf)| (env.to_world(d), pdf))
             }
             Sampler::Black => None,
+        }
+    }
+
+    /// A world direction towards the environment for an emitted ray, with its solid-angle pdf (the cosine
+    /// strategy, which needs a surface normal, samples uniformly here).
+    #[inline]
+    pub fn sample_emission(&self, env: &EnvironmentLight, u: Vec2) -> Option<(Vec3A, f32)> {
+        match &self.sampler {
+            Sampler::Cosine => Some((warp::uniform_sphere(u), warp::uniform_sphere_pdf())),
+            _ => self.sample(env, Vec3A::Z, u),
+        }
+    }
+
+    /// Solid-angle pdf of `sample_emission` producing the world direction `dir` (towards the environment).
+    #[inline]
+    pub fn pdf_emission(&self, env: &EnvironmentLight, dir: Vec3A) -> f32 {
+        match &self.sampler {
+            Sampler::Cosine => warp::uniform_sphere_pdf(),
+            _ => self.pdf(env, Vec3A::Z, dir),
         }
     }
 

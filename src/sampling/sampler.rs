@@ -1,0 +1,161 @@
+//! Samplers: where the random numbers of one camera sample (or one photon path) come from, dimension by dimension.
+//!
+//! An estimator asks for its numbers in a fixed order — the pixel position (dimensions 0-1), the lens (2-3), then
+//! at every path vertex the light choice, the light point, the BSDF lobe, the BSDF direction and Russian roulette —
+//! and the sampler answers:
+//! - `independent`: every number from the pixel's PCG32 stream (plain Monte Carlo, as Mitsuba's `independent`);
+//! - `stratified`: Prism's original scheme: pixel positions jittered on an n x n grid over the pixel's samples, the
+//!   first two integrator 2D dimensions (the first vertex's light and BSDF samples) from Owen-scrambled Sobol points,
+//!   everything else independent;
+//! - `sobol` (the default): **every** dimension from Owen-scrambled Sobol points (Burley 2020, "Practical Hash-based
+//!   Owen Scrambling"): 2D requests use the first two Sobol dimensions, a (0,2)-sequence, 1D requests the first
+//!   (van der Corput); each dimension (pair) gets its own index shuffle and its own nested uniform scramble, hashed
+//!   from (pixel, dimension), which decorrelates dimensions ("padding" in pbrt's terms) and makes every single point
+//!   uniformly distributed. So the estimate is unbiased for any sample count; every prefix of 2^k samples of a pixel
+//!   is stratified in every 2D projection used (one point in each of the 2^k elementary intervals of any shape),
+//!   and in between powers of two the extra samples are a stratified subset of the next power's set.
+//!   The sequence is progressive: sample `i` of a pixel is the same point whatever the total, so passes and time
+//!   budgets continue one sequence.
+//!
+//! Everything is a pure function of (seed, pixel, sample index, dimension), so images do not depend on threads.
+
+use super::{Rng, nested_uniform_scramble, sobol_owen_2d};
+use glam::Vec2;
+
+/// Which sampler fills the dimensions of a sample.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, serde::Deserialize, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum SamplerKind {
+    Independent,
+    Stratified,
+    #[default]
+    Sobol,
+}
+
+impl SamplerKind {
+    pub fn parse(s: &str) -> Option<Self> {
+        match s {
+            "independent" | "random" => Some(Self::Independent),
+            "stratified" => Some(Self::Stratified),
+            "sobol" | "ldsampler" | "low_discrepancy" => Some(Self::Sobol),
+            _ => None,
+        }
+    }
+
+    pub fn name(&self) -> &'static str {
+        match self {
+            Self::Independent => "independent",
+            Self::Stratified => "stratified",
+            Self::Sobol => "sobol",
+        }
+    }
+
+    pub const NAMES: &'static str = "independent, stratified or sobol";
+}
+
+/// Dimensions PerPixel uses before the integrator's: the pixel position (0-1) and the lens (2-3).
+pub const CAMERA_DIMENSIONS: u32 = 4;
+
+#[inline]
+fn hash32(mut x: u32) -> u32 {
+    x ^= x >> 16;
+    x = x.wrapping_mul(0x7feb352d);
+    x ^= x >> 15;
+    x = x.wrapping_mul(0x846ca68b);
+    x ^ (x >> 16)
+}
+
+/// The random numbers of one sample: call [`Sampler::start`] for each sample index, then draw with `next_1d` /
+/// `next_2d` in a fixed order. `rng()` gives the raw stream for decisions that need no stratification.
+#[derive(Clone, Debug)]
+pub struct Sampler {
+    kind: SamplerKind,
+    /// Scramble key of the pixel (or photon batch).
+    key: u32,
+    /// Index of the current sample in the pixel's sequence.
+    index: u32,
+    /// Next dimension.
+    dim: u32,
+    /// 2D requests so far in this sample (for `stratified`).
+    requests_2d: u32,
+    rng: Rng,
+}
+
+impl Sampler {
+    /// A sampler whose Sobol points are scrambled by `key` and whose independent numbers come from `rng`.
+    pub fn new(kind: SamplerKind, key: u32, rng: Rng) -> Self {
+        Sampler { kind, key, index: 0, dim: 0, requests_2d: 0, rng }
+    }
+
+    /// Begin sample `index` of the sequence (dimension 0).
+    #[inline]
+    pub fn start(&mut self, index: u32) {
+        self.index = index;
+        self.dim = 0;
+        self.requests_2d = 0;
+    }
+
+    /// Skip one 2D request (its dimensions are drawn elsewhere, e.g. pixel positions by an explicit pattern).
+    #[inline]
+    pub fn skip_2d(&mut self) {
+        self.dim += 2;
+        self.requests_2d += 1;
+    }
+
+    pub fn kind(&self) -> SamplerKind {
+        self.kind
+    }
+
+    /// The dimension the next request will use.
+    pub fn dimension(&self) -> u32 {
+        self.dim
+    }
+
+    /// The sample's index in its sequence.
+    pub fn index(&self) -> u32 {
+        self.index
+    }
+
+    /// The sampler's independent stream.
+    #[inline]
+    pub fn rng(&mut self) -> &mut Rng {
+        &mut self.rng
+    }
+
+    #[inline]
+    fn dim_key(&self, dim: u32) -> u32 {
+        hash32(self.key ^ dim.wrapping_mul(0x9E37_79B9).wrapping_add(0x632B_E5AB))
+    }
+
+    /// One number in [0, 1).
+    #[inline]
+    pub fn next_1d(&mut self) -> f32 {
+        let dim = self.dim;
+        self.dim += 1;
+        match self.kind {
+            SamplerKind::Sobol => {
+                let k = self.dim_key(dim);
+                let i = nested_uniform_scramble(self.index, k);
+                // First Sobol dimension (van der Corput: the bit-reversed index), Owen-scrambled.
+                let x = nested_uniform_scramble(i.reverse_bits(), hash32(k ^ 0xa511_e9b3));
+                (x >> 8) as f32 * (1.0 / 16_777_216.0)
+            }
+            _ => self.rng.next_f32(),
+        }
+    }
+
+    /// A point in [0, 1)^2.
+    #[inline]
+    pub fn next_2d(&mut self) -> Vec2 {
+        let dim = self.dim;
+        self.dim += 2;
+        let request = self.requests_2d;
+        self.requests_2d += 1;
+        match self.kind {
+            SamplerKind::Sobol => sobol_owen_2d(self.index, self.dim_key(dim)),
+            // The first vertex's light and BSDF points (the first two 2D requests after the camera's).
+            SamplerKind::Stratified if (2..4).contains(&request) => sobol_owen_2d(self.index, self.dim_key(dim)),
+            _ => self.rng.next_2d(),
+        }
+    }
+}

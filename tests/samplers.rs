@@ -1,0 +1,291 @@
+//! Samplers, pixel filters and the thin lens:
+//! - the Sobol sampler stratifies the first 2^k samples of a pixel in every 2D request (one point per elementary
+//!   interval of every shape: a (0,k,2)-net) and every 1D request, at every dimension a path uses;
+//! - its dimensions are uncorrelated with each other and neighbouring pixels' errors are uncorrelated in a render;
+//! - every sampler is unbiased (the white furnace's sphere is 0.8 whatever the sampler), deterministic across
+//!   thread counts, and converges faster with Sobol than independent on a smooth direct-lighting integral;
+//! - filter importance sampling draws film offsets with the filter's own density (chi-square), with the 6.837
+//!   filters' supports;
+//! - the thin lens with aperture 0 is the pinhole bit for bit, and a point in the plane of focus stays sharp.
+
+use crate::common::{chi_square, render_ron, scene_path};
+use glam::{Vec2, Vec3, Vec3A};
+use prism::camera::CameraRig;
+use prism::components::{Camera, Projection};
+use prism::sampling::{PixelFilter, Rng, Sampler, SamplerKind, sobol_dim1_fast, sobol_dim1_reference};
+use prism::settings::Overrides;
+
+fn sobol(key: u32) -> Sampler {
+    Sampler::new(SamplerKind::Sobol, key, Rng::new(1, 1))
+}
+
+#[test]
+fn sobol_table_equals_the_bit_loop() {
+    let mut rng = Rng::new(3, 3);
+    for i in (0..4096).chain((0..4096).map(|_| rng.next_u32())) {
+        assert_eq!(sobol_dim1_fast(i), sobol_dim1_reference(i), "index {i}");
+    }
+}
+
+/// The dimensions a path tracer draws for 3 vertices after the camera's: (1D, 2D, 1D, 2D, 1D) per vertex.
+const REQUESTS: [u8; 4 + 15] = [2, 2, 1, 2, 1, 2, 1, 1, 2, 1, 2, 1, 1, 2, 1, 2, 1, 0, 0];
+
+#[test]
+fn sobol_prefixes_are_stratified_in_every_dimension_a_path_uses() {
+    for key in [0u32, 1, 0xdead_beef, 12345] {
+        for k in [2u32, 4, 6, 8] {
+            let n = 1usize << k;
+            let mut s = sobol(key);
+            // points[request][sample]
+            let mut points: Vec<Vec<Vec2>> = vec![vec![]; REQUESTS.len()];
+            for i in 0..n as u32 {
+                s.start(i);
+                for (r, &kind) in REQUESTS.iter().enumerate() {
+                    match kind {
+                        2 => points[r].push(s.next_2d()),
+                        1 => points[r].push(Vec2::new(s.next_1d(), 0.5)),
+                        _ => {}
+                    }
+                }
+            }
+            for (r, &kind) in REQUESTS.iter().enumerate() {
+                match kind {
+                    2 => {
+                        // Every elementary interval shape 2^a x 2^(k-a) holds exactly one point.
+                        for a in 0..=k {
+                            let (nx, ny) = (1usize << a, 1usize << (k - a));
+                            let mut seen = vec![0u8; n];
+                            for p in &points[r] {
+                                let cell = ((p.y * ny as f32) as usize).min(ny - 1) * nx
+                                    + ((p.x * nx as f32) as usize).min(nx - 1);
+                                seen[cell] += 1;
+                            }
+                            assert!(
+                                seen.iter().all(|&c| c == 1),
+                                "key {key}, 2^{k} samples, request {r}: intervals {nx}x{ny} not stratified"
+                            );
+                        }
+                    }
+                    1 => {
+                        let mut seen = vec![0u8; n];
+                        for p in &points[r] {
+                            seen[((p.x * n as f32) as usize).min(n - 1)] += 1;
+                        }
+                        assert!(seen.iter().all(|&c| c == 1), "key {key}, 2^{k}, 1D request {r} not stratified");
+                    }
+                    _ => {}
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn sobol_dimensions_are_uncorrelated_and_uniform() {
+    // Over 4096 samples of one pixel: correlation between the x coordinates of different requests (and between x
+    // and y of one request) is within 4 / sqrt(n) of 0, and each coordinate's mean is 1/2.
+    let n = 4096;
+    let mut s = sobol(777);
+    let mut cols: Vec<Vec<f64>> = vec![];
+    for i in 0..n {
+        s.start(i);
+        let mut row = vec![];
+        for _ in 0..6 {
+            let p = s.next_2d();
+            row.push(p.x as f64);
+            row.push(p.y as f64);
+            row.push(s.next_1d() as f64);
+        }
+        if cols.is_empty() {
+            cols = vec![vec![]; row.len()];
+        }
+        for (c, v) in cols.iter_mut().zip(row) {
+            c.push(v);
+        }
+    }
+    let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
+    for (a, ca) in cols.iter().enumerate() {
+        assert!((mean(ca) - 0.5).abs() < 0.01, "dimension {a} mean {}", mean(ca));
+        for (b, cb) in cols.iter().enumerate().skip(a + 1) {
+            let (ma, mb) = (mean(ca), mean(cb));
+            let cov: f64 = ca.iter().zip(cb).map(|(x, y)| (x - ma) * (y - mb)).sum::<f64>() / n as f64;
+            let corr = cov / (1.0 / 12.0);
+            assert!(corr.abs() < 4.0 / (n as f64).sqrt(), "dimensions {a} and {b} correlate: {corr:.4}");
+        }
+    }
+}
+
+#[test]
+fn samplers_are_deterministic_functions_of_index_and_dimension() {
+    for kind in [SamplerKind::Independent, SamplerKind::Stratified, SamplerKind::Sobol] {
+        let mut a = Sampler::new(kind, 99, Rng::new(5, 6));
+        let mut b = Sampler::new(kind, 99, Rng::new(5, 6));
+        for i in 0..64 {
+            a.start(i);
+            b.start(i);
+            for _ in 0..10 {
+                assert_eq!(a.next_2d(), b.next_2d());
+                assert_eq!(a.next_1d(), b.next_1d());
+            }
+        }
+    }
+    // Sobol points do not depend on what was drawn before (progressive: sample 37 is sample 37).
+    let mut a = sobol(4);
+    a.start(37);
+    let first = a.next_2d();
+    let mut b = sobol(4);
+    for i in 0..37 {
+        b.start(i);
+        b.next_2d();
+    }
+    b.start(37);
+    assert_eq!(b.next_2d(), first);
+}
+
+const LIT_PLANE: &str = r#"(
+    camera: (eye: (0, 3, 0), target: (0, 0, 0), up: (0, 0, -1), fov: 50, size: (48, 48)),
+    render: (integrator: envlight(max_depth: 2)),
+    materials: { "white": Lambert(albedo: (0.8, 0.8, 0.8)) },
+    entities: [
+        (shape: Quad(), material: "white", transform: [Rotate(axis: (1, 0, 0), degrees: -90), UniformScale(3)]),
+        (shape: Quad(), light: Area(radiance: (4, 4, 4)), transform: [Translate((0.7, 1.2, 0.3)), Rotate(axis: (1, 0, 0), degrees: 60), UniformScale(0.5)]),
+    ],
+)"#;
+
+fn render_plane(sampler: SamplerKind, spp: u32, seed: u64) -> Vec<Vec3> {
+    render_ron(LIT_PLANE, Overrides { spp: Some(spp), sampler: Some(sampler), seed: Some(seed), ..Default::default() })
+        .pixels
+}
+
+#[test]
+fn sobol_render_has_no_correlation_between_neighbouring_pixels_and_lower_error() {
+    // Soft shadows and irradiance from an area light: 2 spp renders against a 256 spp estimate. A sampler that
+    // shared its scramble between pixels would make neighbouring errors correlate (structured noise); Sobol's
+    // errors must be as uncorrelated as independent sampling's, and smaller.
+    let reference = render_plane(SamplerKind::Sobol, 256, 11);
+    let stats = |kind| {
+        let img = render_plane(kind, 4, 3);
+        let err: Vec<f32> = img.iter().zip(&reference).map(|(a, r)| a.x - r.x).collect();
+        let w = 48;
+        let (mut cov, mut var) = (0.0f64, 0.0f64);
+        for y in 0..w {
+            for x in 0..w - 1 {
+                let (e0, e1) = (err[y * w + x] as f64, err[y * w + x + 1] as f64);
+                cov += e0 * e1;
+                var += e0 * e0;
+            }
+        }
+        let rmse = (err.iter().map(|e| (*e as f64).powi(2)).sum::<f64>() / err.len() as f64).sqrt();
+        (cov / var, rmse)
+    };
+    let (corr_sobol, rmse_sobol) = stats(SamplerKind::Sobol);
+    let (corr_indep, rmse_indep) = stats(SamplerKind::Independent);
+    eprintln!("neighbour error correlation: sobol {corr_sobol:.3}, independent {corr_indep:.3}");
+    eprintln!("RMSE at 4 spp: sobol {rmse_sobol:.4}, independent {rmse_indep:.4}");
+    assert!(corr_sobol.abs() < 0.1, "Sobol errors correlate between pixels: {corr_sobol}");
+    assert!(rmse_sobol < 0.8 * rmse_indep, "Sobol {rmse_sobol} not below independent {rmse_indep}");
+}
+
+#[test]
+fn every_sampler_renders_the_white_furnace_exactly() {
+    // A diffuse sphere of albedo 0.8 under a uniform sky of radiance 1: every pixel on the sphere is 0.8 in
+    // expectation, whatever the sampler (unbiasedness), within a tight tolerance on the image mean.
+    for kind in [SamplerKind::Independent, SamplerKind::Stratified, SamplerKind::Sobol] {
+        let img = crate::common::render_file(
+            &scene_path("furnace.ron"),
+            Overrides { spp: Some(16), sampler: Some(kind), size: Some((48, 48)), ..Default::default() },
+        );
+        let (w, h) = (img.width, img.height);
+        let mut sum = 0.0f64;
+        let mut count = 0;
+        for y in 0..h {
+            for x in 0..w {
+                // Pixels well inside the sphere's silhouette (radius 1 seen from z = 4 with fov 40).
+                let (dx, dy) = (x as f32 + 0.5 - w as f32 / 2.0, y as f32 + 0.5 - h as f32 / 2.0);
+                if (dx * dx + dy * dy).sqrt() < 0.28 * w as f32 {
+                    sum += img.get(x, y).x as f64;
+                    count += 1;
+                }
+            }
+        }
+        let mean = sum / count as f64;
+        assert!((mean - 0.8).abs() < 0.004, "{kind:?}: furnace sphere mean {mean}");
+    }
+}
+
+#[test]
+fn filter_importance_sampling_follows_each_filter() {
+    // Histogram of film offsets on a grid over the filter's support, against the normalised filter integrated
+    // per cell.
+    for f in [
+        PixelFilter::Box { radius: 0.5 },
+        PixelFilter::Box { radius: 1.7 },
+        PixelFilter::Tent { radius: 1.5 },
+        PixelFilter::Gaussian { sigma: 0.6 },
+    ] {
+        let r = f.support();
+        let g = 24;
+        let cell = 2.0 * r / g as f32;
+        let sub = 8;
+        let mut expected = vec![0.0f64; g * g];
+        for (c, e) in expected.iter_mut().enumerate() {
+            let (cx, cy) = (c % g, c / g);
+            for a in 0..sub {
+                for b in 0..sub {
+                    let x = -r + cell * (cx as f32 + (a as f32 + 0.5) / sub as f32);
+                    let y = -r + cell * (cy as f32 + (b as f32 + 0.5) / sub as f32);
+                    *e += f.weight(Vec2::new(x, y)) as f64;
+                }
+            }
+        }
+        let total: f64 = expected.iter().sum();
+        let n = 200_000;
+        expected.iter_mut().for_each(|e| *e *= n as f64 / total);
+        let mut observed = vec![0.0f64; g * g];
+        let mut rng = Rng::new(8, 8);
+        for _ in 0..n {
+            let d = f.warp(rng.next_2d());
+            assert!(d.x.abs() <= r * 1.0001 && d.y.abs() <= r * 1.0001, "{f:?}: offset {d} outside the support");
+            let cx = (((d.x + r) / cell) as usize).min(g - 1);
+            let cy = (((d.y + r) / cell) as usize).min(g - 1);
+            observed[cy * g + cx] += 1.0;
+        }
+        let (stat, df, p) = chi_square(&observed, &expected);
+        assert!(p > 1e-3, "{f:?}: chi-square {stat:.1} ({df} dof), p = {p:.2e}");
+    }
+}
+
+fn camera(aperture: f32, focus: f32) -> CameraRig {
+    let cam = Camera {
+        eye: Vec3::new(0.0, 0.0, 3.9),
+        target: Vec3::ZERO,
+        up: Vec3::Y,
+        projection: Projection::Perspective { fov_y: 39.3077 },
+        width: 256,
+        height: 256,
+        aperture_radius: aperture,
+        focus_distance: focus,
+    };
+    CameraRig::new(&cam, &glam::Affine3A::IDENTITY).unwrap()
+}
+
+#[test]
+fn thin_lens_of_aperture_zero_is_the_pinhole_and_the_focal_plane_is_sharp() {
+    let pinhole = camera(0.0, 3.4);
+    let lens = camera(0.06, 3.4);
+    let mut rng = Rng::new(2, 2);
+    for _ in 0..1000 {
+        let film = Vec2::new(rng.next_f32() * 256.0, rng.next_f32() * 256.0);
+        let a = pinhole.generate_ray(film);
+        let b = pinhole.generate_ray_lens(film, rng.next_2d());
+        assert_eq!((a.origin, a.dir), (b.origin, b.dir), "aperture 0 must be the pinhole exactly");
+        // Rays through one film point from anywhere on the lens meet the pinhole ray at the focal plane
+        // (camera-space depth 3.4: world z = 0.5).
+        let c = lens.generate_ray_lens(film, rng.next_2d());
+        let t_pin = (0.5 - a.origin.z) / a.dir.z;
+        let t_lens = (0.5 - c.origin.z) / c.dir.z;
+        let (p, q) = (a.at(t_pin), c.at(t_lens));
+        assert!((p - q).length() < 1e-5, "focal point {p} vs {q}");
+        assert!((c.origin - Vec3A::new(0.0, 0.0, 3.9)).length() <= 0.06 * 1.0001, "origin off the aperture");
+    }
+}
