@@ -82,6 +82,30 @@ impl<'a> Bsdf<'a> {
         self.cdf[1] > 0.0
     }
 
+    /// Probability that `sample` picks a smooth (non-delta) lobe; 1 for purely smooth materials, 0 for purely
+    /// specular ones (mirror, glass).
+    #[inline]
+    pub fn smooth_probability(&self) -> f32 {
+        self.cdf[1]
+    }
+
+    /// `sample` for light (importance) transport, as photons and light paths scatter (Veach 1997, ch. 5): the
+    /// radiance scaling 1/eta^2 of refraction does not apply, and the shading-normal correction
+    /// `|wo.ns| |wi.ng| / (|wo.ng| |wi.ns|)` makes the adjoint BSDF of a shaded surface. `wo` is the direction the
+    /// particle came from.
+    pub fn sample_importance(&self, u_lobe: f32, u: Vec2) -> Option<BsdfSample> {
+        let mut bs = self.sample(u_lobe, u)?;
+        if bs.delta && bs.wi.dot(self.ng) < 0.0 {
+            bs.weight *= self.eta * self.eta;
+        }
+        let (ns, ng) = (self.frame.n, self.ng);
+        let denom = self.wo.dot(ng).abs() * bs.wi.dot(ns).abs();
+        if denom > 0.0 {
+            bs.weight *= (self.wo.dot(ns).abs() * bs.wi.dot(ng).abs()) / denom;
+        }
+        Some(bs)
+    }
+
     /// The smooth part of the BSDF, `f(wo, wi)`; zero for `wi` below the surface (shading or geometric).
     #[inline]
     pub fn eval(&self, wi: Vec3A) -> Vec3 {

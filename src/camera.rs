@@ -100,6 +100,14 @@ impl CameraRig {
         }
     }
 
+    /// Width in world units of one pixel's footprint at `distance` along the view (perspective), or of one pixel
+    /// (orthographic): a scale for radii that must adapt to the image resolution.
+    #[inline]
+    pub fn pixel_footprint(&self, distance: f32) -> f32 {
+        let per_pixel = 2.0 * self.half_h / self.height as f32;
+        if self.ortho { per_pixel } else { per_pixel * distance }
+    }
+
     pub fn eye(&self) -> Vec3A {
         self.eye
     }

@@ -209,6 +209,9 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
             samples / render_s.max(1e-9) / 1e6,
             outputs.iter().map(|o| o.display().to_string()).collect::<Vec<_>>().join(", ")
         );
+        if let Some(note) = res.integrator.as_ref().and_then(|i| i.status()) {
+            eprintln!("{}: {note}", s.integrator.name);
+        }
         if let Some(f) = &res.film
             && f.nonfinite > 0
         {

@@ -73,6 +73,11 @@ pub trait Integrator: Send + Sync {
 
     /// Render one pass. Must stop early (returning what it has) when `cancel` becomes true.
     fn render_pass(&mut self, scene: &Scene, pass: &PassInfo, cancel: &AtomicBool) -> PassOutput;
+
+    /// A short progress note for the progress bar and the render summary (e.g. photons traced).
+    fn status(&self) -> Option<String> {
+        None
+    }
 }
 
 /// An estimator of the radiance arriving along a camera ray.

@@ -130,7 +130,8 @@ pub fn accumulate_system(_world: &mut World, res: &mut Resources) -> Result<()> 
     }
     let (passes_done, spp_done, finished) = (p.passes_done, p.spp_done, p.finished);
     if let Some(bar) = res.get::<ProgressReporter>() {
-        bar.update(passes_done, spp_done, elapsed);
+        let note = res.integrator.as_ref().and_then(|i| i.status());
+        bar.update(passes_done, spp_done, elapsed, note.as_deref());
     }
     // Checkpoint: keep what was rendered on disk while long renders run.
     if !finished

@@ -26,13 +26,15 @@ impl ProgressReporter {
         ProgressReporter { bar, by_time }
     }
 
-    pub fn update(&self, passes: u32, spp: u64, elapsed_s: f64) {
+    /// `note` is the integrator's own progress (e.g. iterations and photons of a photon mapper).
+    pub fn update(&self, passes: u32, spp: u64, elapsed_s: f64, note: Option<&str>) {
+        let note = note.map(|n| format!(", {n}")).unwrap_or_default();
         if self.by_time {
             self.bar.set_position((elapsed_s * 10.0) as u64);
-            self.bar.set_message(format!("{spp} spp, pass {passes}"));
+            self.bar.set_message(format!("{spp} spp, pass {passes}{note}"));
         } else {
             self.bar.set_position(spp);
-            self.bar.set_message(format!("pass {passes}"));
+            self.bar.set_message(format!("pass {passes}{note}"));
         }
     }
 

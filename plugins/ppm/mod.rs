@@ -1,0 +1,283 @@
+//! `ppm`: progressive photon mapping with a hash-grid photon lookup.
+//!
+//! **Stochastic progressive photon mapping** (Hachisuka & Jensen 2009), the default. Every iteration:
+//! 1. an eye pass (`visible.rs`): one camera sample per pixel traced through specular chains to its first smooth
+//!    vertex, the *visible point*, which also gets direct light by next-event estimation;
+//! 2. a photon pass (`photons.rs`): `photons` photons from the lights (chosen by power, `sample_le`), stored from
+//!    their second vertex on (direct light is the eye pass's), scattered with exact Fresnel and Russian roulette;
+//! 3. a gather: each visible point sums `photon power x BSDF` over the photons within its pixel's radius `R`
+//!    (found through the hash grid or the kd-tree, on the same photons), then the pixel statistics update as
+//!    `N <- N + alpha M`, `R <- R sqrt((N + alpha M) / (N + M))`, `tau <- (tau + beta Phi) (R_new / R)^2`.
+//!
+//! The pixel's estimate after k iterations is `direct / k + tau / (k photons pi R^2)`: PPM's bias shrinks with R
+//! while its variance stays bounded, so the error goes to 0 as iterations grow.
+//!
+//! **Fixed mode** (the original PPM, Hachisuka, Ogaki & Jensen 2008): one eye pass through the pixel centres at the
+//! start, fixed visible points, then photon passes only, with photons stored from their first vertex (they carry
+//! direct light too). No anti-aliasing, no depth of field: what the stochastic variant buys.
+//!
+//! Parameters: `ppm(alpha: 0.7, radius: None, radius_pixels: 2, photons: None, max_depth: -1, mode: stochastic,
+//! lookup: hash_grid)`
+//! - `alpha`: the fraction of new photons kept per iteration, in (0, 1] (the seed's 0.7);
+//! - `radius`: the initial gather radius in world units; by default each pixel's is `radius_pixels` pixel
+//!   footprints at its first visible point (distance along the eye path x the pixel's angular size), so the same
+//!   settings work at any scene scale and resolution: with `photons` = the pixel count, a radius of 2 pixels holds a
+//!   few photons per iteration on any diffuse surface the camera sees;
+//! - `photons`: photons per iteration (default: the image's pixel count; at most 2^24);
+//! - `max_depth`: the longest light path in segments, counted as Mitsuba and `envlight` count them (-1 unlimited;
+//!   a photon deposited at its vertex v reaching a visible point after e specular eye vertices makes a path of
+//!   `e + v + 2` segments), so `ppm` and `envlight` render the same image for the same `max_depth`;
+//! - `mode`: `stochastic` | `fixed`; `lookup`: `hash_grid` | `kdtree`.
+//!
+//! Deterministic whatever the thread count: photon `j` of iteration `k` draws from (seed, k, j), photons are stored
+//! in a fixed order, and each pixel sums its photons in a fixed order without atomics. Storage (visible points,
+//! photons, lookup structures) is allocated once and reused, so memory stays flat over iterations. Each progressive
+//! pass of the render is `spp` of the pass's iterations (`--spp 64` renders 64 iterations); `--time` stops after the
+//! iteration that crosses the budget; a cancelled iteration is dropped and the image of the completed ones kept.
+
+mod gather;
+mod hash_grid;
+mod kd_tree;
+mod params;
+pub mod photons;
+mod visible;
+
+pub use gather::PixelStats;
+pub use hash_grid::PhotonHashGrid;
+pub use kd_tree::PhotonKdTree;
+pub use params::{MAX_PHOTONS, PhotonLookup, PpmMode, PpmParams};
+pub use visible::{EyePass, EyeResult, VisiblePoint};
+
+use crate::app::{App, Plugin};
+use crate::error::{PrismError, Result};
+use crate::integrator::{Integrator, PassInfo, PassOutput};
+use crate::lights::{EnvStrategy, LightSampler};
+use crate::scene::Scene;
+use crate::settings::RenderSettings;
+use glam::Vec3;
+use photons::{Photon, PhotonPass};
+use rayon::prelude::*;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+pub struct PpmPlugin;
+
+impl Plugin for PpmPlugin {
+    fn name(&self) -> &str {
+        "ppm"
+    }
+
+    fn build(&self, app: &mut App) {
+        app.register_integrator(
+            "ppm",
+            Box::new(|cfg| {
+                let params: PpmParams = cfg.parse_params()?;
+                params.validate()?;
+                Ok(Box::new(Ppm::new(params)))
+            }),
+        );
+    }
+}
+
+/// The photon mapper's state between passes.
+pub struct Ppm {
+    params: PpmParams,
+    lights: Option<LightSampler>,
+    stats: Vec<PixelStats>,
+    eye: Vec<EyeResult>,
+    chunks: Vec<Vec<Photon>>,
+    grid: PhotonHashGrid,
+    kd: PhotonKdTree,
+    /// Iterations completed.
+    iterations: u64,
+    photons_per_iteration: u64,
+    photons_stored: u64,
+    warned_no_visible_points: bool,
+}
+
+impl Ppm {
+    pub fn new(params: PpmParams) -> Self {
+        Ppm {
+            params,
+            lights: None,
+            stats: vec![],
+            eye: vec![],
+            chunks: vec![],
+            grid: PhotonHashGrid::default(),
+            kd: PhotonKdTree::default(),
+            iterations: 0,
+            photons_per_iteration: 0,
+            photons_stored: 0,
+            warned_no_visible_points: false,
+        }
+    }
+
+    /// Iterations completed so far.
+    pub fn iterations(&self) -> u64 {
+        self.iterations
+    }
+
+    /// The per-pixel statistics (radius, photon count, flux).
+    pub fn pixel_stats(&self) -> &[PixelStats] {
+        &self.stats
+    }
+
+    /// Photons stored in the last iteration.
+    pub fn photons_stored(&self) -> u64 {
+        self.photons_stored
+    }
+
+    /// Bytes held by the photon storage and the lookup structures (for memory reports).
+    pub fn memory_bytes(&self) -> usize {
+        self.chunks.iter().map(|c| c.capacity() * std::mem::size_of::<Photon>()).sum::<usize>()
+            + self.grid.memory_bytes()
+            + self.kd.memory_bytes()
+            + self.stats.capacity() * std::mem::size_of::<PixelStats>()
+            + self.eye.capacity() * std::mem::size_of::<EyeResult>()
+    }
+
+    /// One iteration; false (and nothing changed) if cancelled.
+    fn iterate(&mut self, scene: &Scene, settings: &RenderSettings, cancel: &AtomicBool) -> bool {
+        let lights = self.lights.as_ref().expect("prepared");
+        let fixed = self.params.mode == PpmMode::Fixed;
+        let k = self.iterations;
+        let w = settings.width as usize;
+        // 1. Eye pass (fixed mode: once).
+        if !fixed || k == 0 {
+            let eye = EyePass {
+                scene,
+                lights,
+                settings,
+                sampler: settings.sampler,
+                max_segments: self.params.segments(),
+                direct_lighting: !fixed,
+                pixel_centre: fixed,
+            };
+            self.eye.par_chunks_mut(w).enumerate().for_each(|(y, row)| {
+                if cancel.load(Ordering::Relaxed) {
+                    return;
+                }
+                for (x, r) in row.iter_mut().enumerate() {
+                    *r = eye.trace_pixel(x as u32, y as u32, k);
+                }
+            });
+            if cancel.load(Ordering::Relaxed) {
+                return false;
+            }
+        }
+        // 2. Photon pass.
+        let pass = PhotonPass {
+            scene,
+            lights,
+            sampler: settings.sampler,
+            seed: settings.seed,
+            iteration: k,
+            photons: self.photons_per_iteration,
+            max_vertices: self.params.segments().saturating_sub(1),
+            first_deposit: if fixed { 0 } else { 1 },
+        };
+        if !pass.trace(&mut self.chunks, cancel) {
+            return false;
+        }
+        self.photons_stored = self.chunks.iter().map(|c| c.len() as u64).sum();
+        // 3. Gather and update.
+        let initial = |vp: &VisiblePoint| {
+            self.params
+                .radius
+                .unwrap_or_else(|| self.params.radius_pixels * scene.camera.pixel_footprint(vp.path_length.max(1e-30)))
+        };
+        let mut r_max = 0.0f32;
+        for (st, e) in self.stats.iter_mut().zip(&self.eye) {
+            if let Some(vp) = &e.vp {
+                st.init_radius(initial(vp));
+                r_max = r_max.max(st.radius() as f32);
+            }
+        }
+        if r_max > 0.0 {
+            match self.params.lookup {
+                PhotonLookup::HashGrid => self.grid.build(&self.chunks, r_max),
+                PhotonLookup::Kdtree => self.kd.build(&self.chunks),
+            }
+        }
+        let (grid, kd, lookup, alpha) = (&self.grid, &self.kd, self.params.lookup, self.params.alpha as f64);
+        let max_segments = self.params.segments();
+        let add_direct = !fixed || k == 0;
+        self.stats.par_iter_mut().zip(self.eye.par_iter()).for_each(|(st, e)| {
+            let (phi, m) = match &e.vp {
+                Some(vp) if r_max > 0.0 => {
+                    gather::gather(scene, vp, st.radius() as f32, max_segments, |p, r, f| match lookup {
+                        PhotonLookup::HashGrid => grid.query(p, r, f),
+                        PhotonLookup::Kdtree => kd.query(p, r, f),
+                    })
+                }
+                _ => (Vec3::ZERO, 0),
+            };
+            st.update(e, phi, m, alpha, add_direct);
+        });
+        self.iterations += 1;
+        true
+    }
+
+    /// The current image estimate.
+    fn image(&self, fixed: bool) -> Vec<Vec3> {
+        let k = self.iterations.max(1) as f64;
+        let direct_count = if fixed { 1.0 } else { k };
+        let photons = k * self.photons_per_iteration as f64;
+        self.stats.iter().map(|s| s.estimate(direct_count, photons)).collect()
+    }
+}
+
+impl Integrator for Ppm {
+    fn prepare(&mut self, scene: &Scene, settings: &RenderSettings) -> Result<()> {
+        let lights = LightSampler::new(&scene.lights, &scene.prims, EnvStrategy::Quadtree);
+        let pixels = settings.width as usize * settings.height as usize;
+        self.photons_per_iteration = self.params.photons.unwrap_or(pixels as u64).min(MAX_PHOTONS);
+        if !lights.has_power() {
+            eprintln!("warning: ppm: no light emits anything: only emission seen directly can appear");
+        }
+        if scene
+            .lights
+            .lights
+            .iter()
+            .any(|l| matches!(l, crate::lights::LightSource::Point(p) if p.attenuation != Vec3::Z))
+        {
+            eprintln!(
+                "warning: ppm: point lights emit photons with physical inverse-square falloff; their non-physical attenuation is ignored"
+            );
+        }
+        self.lights = Some(lights);
+        self.stats = vec![PixelStats::default(); pixels];
+        self.eye = vec![EyeResult::default(); pixels];
+        self.iterations = 0;
+        if settings.width as u64 * settings.height as u64 > u32::MAX as u64 {
+            return Err(PrismError::invalid("ppm: image too large"));
+        }
+        Ok(())
+    }
+
+    fn render_pass(&mut self, scene: &Scene, pass: &PassInfo, cancel: &AtomicBool) -> PassOutput {
+        let fixed = self.params.mode == PpmMode::Fixed;
+        let mut complete = true;
+        for _ in 0..pass.spp.max(1) {
+            if !self.iterate(scene, pass.settings, cancel) {
+                complete = false;
+                break;
+            }
+        }
+        if self.iterations > 0 && !self.warned_no_visible_points && self.stats.iter().all(|s| !s.has_radius()) {
+            self.warned_no_visible_points = true;
+            eprintln!(
+                "warning: ppm: no visible points (no eye path reached a diffuse or glossy surface): only emission seen \
+                 through specular surfaces and the background is rendered"
+            );
+        }
+        PassOutput::Estimate { image: self.image(fixed), complete }
+    }
+
+    fn status(&self) -> Option<String> {
+        Some(format!(
+            "{} iterations, {:.1} M photons emitted",
+            self.iterations,
+            (self.iterations * self.photons_per_iteration) as f64 / 1e6
+        ))
+    }
+}
