@@ -45,8 +45,20 @@ impl PluginConfig {
             return Ok(T::default());
         };
         let opts = ron::Options::default().with_default_extension(ron::extensions::Extensions::IMPLICIT_SOME);
-        opts.from_str::<T>(text).map_err(|e| {
-            let message = format!("integrator '{}': {}", self.name, e.code);
+        let mut de = ron::Deserializer::from_str_with_options(text, &opts)
+            .map_err(|e| PrismError::invalid(format!("integrator '{}': {}", self.name, e.code)))?;
+        let parsed = match serde_path_to_error::deserialize::<_, T>(&mut de) {
+            Ok(v) => de.end().map(|_| v).map_err(|e| (String::new(), e)),
+            Err(e) => Err((e.path().to_string(), e.into_inner())),
+        };
+        parsed.map_err(|(path, e)| {
+            let e = de.span_error(e);
+            let what = crate::load::describe_ron_error(&e.code);
+            let message = if path.is_empty() || path == "." || path == "?" {
+                format!("integrator '{}': {what}", self.name)
+            } else {
+                format!("integrator '{}': `{path}`: {what}", self.name)
+            };
             match &self.origin {
                 Some(o) => {
                     let (line, col) = (e.span.start.line, e.span.start.col);

@@ -15,6 +15,7 @@ mod io;
 mod lights;
 mod mit6837;
 mod plugin;
+mod ppm;
 mod samplers;
 mod sampling;
 mod scenes;

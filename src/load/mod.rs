@@ -9,7 +9,7 @@ mod spawn;
 mod transform;
 
 pub use obj::{ObjPart, load_obj};
-pub use ron_scene::{line_col, parse_scene, plugin_config};
+pub use ron_scene::{describe as describe_ron_error, line_col, parse_scene, plugin_config};
 pub use spawn::{FileSettings, camera_component, spawn_scene};
 pub use transform::{check_affine, compose};
 

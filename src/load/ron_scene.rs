@@ -17,9 +17,31 @@ pub fn parse_scene<'a>(text: &'a str, file: &Path) -> Result<SceneDesc<'a>> {
     })
 }
 
-/// RON's message, with the schema's type names replaced by what a scene author sees.
-fn describe(code: &ron::Error) -> String {
-    let s = code.to_string();
+/// RON's message in the words of the file's author: unknown or missing fields and values name the field and the
+/// accepted alternatives, never the schema's internal type names.
+pub fn describe(code: &ron::Error) -> String {
+    let list = |v: &[&str]| match v {
+        [] => "none".to_string(),
+        [one] => format!("`{one}`"),
+        _ => {
+            let quoted: Vec<String> = v.iter().map(|s| format!("`{s}`")).collect();
+            format!("{} or {}", quoted[..quoted.len() - 1].join(", "), quoted[quoted.len() - 1])
+        }
+    };
+    match code {
+        ron::Error::NoSuchEnumVariant { expected, found, .. } => {
+            format!("unknown value `{found}` (expected {})", list(expected))
+        }
+        ron::Error::NoSuchStructField { expected, found, .. } => {
+            format!("unknown field `{found}` (expected {})", list(expected))
+        }
+        ron::Error::MissingStructField { field, .. } => format!("missing field `{field}`"),
+        ron::Error::DuplicateStructField { field, .. } => format!("field `{field}` given twice"),
+        other => rename_types(&other.to_string()),
+    }
+}
+
+fn rename_types(s: &str) -> String {
     s.replace("`SceneDesc`", "the scene")
         .replace("`RenderDesc`", "`render`")
         .replace("`CameraDesc`", "`camera`")
