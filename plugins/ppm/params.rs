@@ -95,7 +95,7 @@ impl PpmParams {
             if n > MAX_PHOTONS {
                 return Err(PrismError::invalid(format!(
                     "ppm: photons = {n} per iteration would need more than {} GiB of photon storage (at most {MAX_PHOTONS})",
-                    n * 64 * 3 >> 30
+                    (n * 64 * 3) >> 30
                 )));
             }
         }
