@@ -41,15 +41,24 @@ pub struct PeerCurve {
     pub cpu_seconds: Vec<Option<f64>>,
 }
 
-/// Render `scene` once per (integrator, budget) and measure against `reference`.
+/// A pixel rectangle `(x, y, width, height)` the error is measured over (e.g. a caustic).
+pub type Crop = [u32; 4];
+
+/// Render `scene` once per (integrator, budget) and measure against `reference` (over `crop` if given).
 pub fn measure(
     scene: &Path,
     reference: &Image,
     integrators: &[String],
     budgets: &[Budget],
     base: &Overrides,
+    crop: Option<Crop>,
     mut on_point: impl FnMut(&ConvergencePoint),
 ) -> Result<Vec<ConvergencePoint>> {
+    let cut = |img: &Image| match crop {
+        Some([x, y, w, h]) => img.crop(x, y, w, h),
+        None => img.clone(),
+    };
+    let reference = &cut(reference);
     let mut out = vec![];
     for spec in integrators {
         for b in budgets {
@@ -71,7 +80,7 @@ pub fn measure(
             app.resources.overrides = o;
             app.run()?;
             let img = crate::render::film_image(&app.resources).ok_or_else(|| PrismError::invalid("no image"))?;
-            let m = compare(&img, reference)?;
+            let m = compare(&cut(&img), reference)?;
             let p = ConvergencePoint {
                 integrator: spec.clone(),
                 spp: app.resources.progress.spp_done,
@@ -88,8 +97,9 @@ pub fn measure(
     Ok(out)
 }
 
-/// Read a peer curve from a CSV with a header containing `scene,spp,seconds,rmse,variant` columns.
-pub fn read_peer(path: &Path, scene: &str, variant: &str) -> Result<PeerCurve> {
+/// Read a peer curve from a CSV with a header containing `scene,spp,seconds,rmse,variant` columns (and, if the CSV
+/// has a `sampler` column and `sampler` is given, only that sampler's rows).
+pub fn read_peer(path: &Path, scene: &str, variant: &str, sampler: Option<&str>) -> Result<PeerCurve> {
     let text = std::fs::read_to_string(path).map_err(|e| PrismError::io(path, e))?;
     let mut lines = text.lines();
     let header: Vec<&str> = lines.next().unwrap_or("").split(',').map(str::trim).collect();
@@ -98,10 +108,16 @@ pub fn read_peer(path: &Path, scene: &str, variant: &str) -> Result<PeerCurve> {
     };
     let (cs, cn, ct, ce, cv) = (col("scene")?, col("spp")?, col("seconds")?, col("rmse")?, col("variant")?);
     let ccpu = header.iter().position(|h| *h == "cpu_seconds");
+    let csampler = header.iter().position(|h| *h == "sampler");
     let mut points = vec![];
     for (i, line) in lines.enumerate() {
         let f: Vec<&str> = line.split(',').map(str::trim).collect();
         if f.len() <= cs.max(cn).max(ct).max(ce).max(cv) || f[cs] != scene || f[cv] != variant {
+            continue;
+        }
+        if let (Some(want), Some(k)) = (sampler, csampler)
+            && f.get(k) != Some(&want)
+        {
             continue;
         }
         let num = |k: usize| {
@@ -115,7 +131,11 @@ pub fn read_peer(path: &Path, scene: &str, variant: &str) -> Result<PeerCurve> {
     }
     points.sort_by(|a, b| a.0.1.total_cmp(&b.0.1));
     let (points, cpu_seconds) = points.into_iter().unzip();
-    Ok(PeerCurve { name: format!("peer {variant}"), points, cpu_seconds })
+    let name = match sampler {
+        Some(s) => format!("peer {variant} {s}"),
+        None => format!("peer {variant}"),
+    };
+    Ok(PeerCurve { name, points, cpu_seconds })
 }
 
 /// Time at which a curve of (seconds, rmse) points reaches `target` RMSE, interpolating linearly in log-log

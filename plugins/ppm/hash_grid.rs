@@ -1,5 +1,6 @@
-//! The hash-grid photon lookup (the design card's): a uniform grid of cubic cells of side `cell` (tied to the
-//! current largest gather radius) hashed into a table of 2^k slots, built over the **photons** every iteration.
+//! The hash-grid photon lookup (the design card's): a uniform grid of cubic cells of side `cell` (twice the
+//! current largest gather radius, so a query touches at most 2 x 2 x 2 cells) hashed into a table of 2^k slots,
+//! built over the **photons** every iteration.
 //!
 //! Why over the photons and not over the visible points (pbrt-v4's choice): with photons in the grid, every visible
 //! point gathers its own sum in parallel and in a fixed order (cell by cell, photons in index order), so the result

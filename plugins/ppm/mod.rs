@@ -35,7 +35,7 @@
 //! pass of the render is `spp` of the pass's iterations (`--spp 64` renders 64 iterations); `--time` stops after the
 //! iteration that crosses the budget; a cancelled iteration is dropped and the image of the completed ones kept.
 
-mod gather;
+pub mod gather;
 mod hash_grid;
 mod kd_tree;
 mod params;
@@ -194,7 +194,7 @@ impl Ppm {
         }
         if r_max > 0.0 {
             match self.params.lookup {
-                PhotonLookup::HashGrid => self.grid.build(&self.chunks, r_max),
+                PhotonLookup::HashGrid => self.grid.build(&self.chunks, 2.0 * r_max),
                 PhotonLookup::Kdtree => self.kd.build(&self.chunks),
             }
         }

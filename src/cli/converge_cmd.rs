@@ -34,6 +34,12 @@ pub struct ConvergeArgs {
     pub peer_scene: String,
     #[arg(long, default_value = "llvm_ad_rgb")]
     pub peer_variant: String,
+    /// Only the peer rows of this sampler (for CSVs with a `sampler` column, e.g. `independent`, `ldsampler`).
+    #[arg(long)]
+    pub peer_sampler: Option<String>,
+    /// Measure the error over a pixel rectangle `X,Y,W,H` only (e.g. the caustic: `95,195,70,35`).
+    #[arg(long, value_delimiter = ',')]
+    pub crop: Option<Vec<u32>>,
     #[arg(long, value_parser = super::render_cmd::parse_size)]
     pub size: Option<(u32, u32)>,
     #[arg(long)]
@@ -57,7 +63,24 @@ pub fn run(a: ConvergeArgs) -> anyhow::Result<()> {
         return Err(PrismError::invalid("--threads must be at least 1").into());
     }
     let reference = read_image(&a.reference)?;
-    let peer: Option<PeerCurve> = a.peer.as_ref().map(|p| read_peer(p, &a.peer_scene, &a.peer_variant)).transpose()?;
+    let peer: Option<PeerCurve> =
+        a.peer.as_ref().map(|p| read_peer(p, &a.peer_scene, &a.peer_variant, a.peer_sampler.as_deref())).transpose()?;
+    let crop = match a.crop.as_deref() {
+        None => None,
+        Some([x, y, w, h]) if *w > 0 && *h > 0 && x + w <= reference.width && y + h <= reference.height => {
+            Some([*x, *y, *w, *h])
+        }
+        Some(c) => {
+            return Err(PrismError::invalid(format!(
+                "--crop {c:?} is not a non-empty rectangle inside the {}x{} reference",
+                reference.width, reference.height
+            ))
+            .into());
+        }
+    };
+    if crop.is_some() && peer.is_some() {
+        return Err(PrismError::invalid("--crop measures a region; a peer's curve is over the whole image").into());
+    }
     let base = Overrides { size: a.size, seed: a.seed, ..Default::default() };
     let mut builder = rayon::ThreadPoolBuilder::new();
     if let Some(n) = a.threads {
@@ -66,7 +89,7 @@ pub fn run(a: ConvergeArgs) -> anyhow::Result<()> {
     let pool = builder.build().map_err(|e| PrismError::invalid(format!("cannot start threads: {e}")))?;
     eprintln!("{:<40} {:>6} {:>9} {:>9} {:>10}", "integrator", "spp", "seconds", "cpu s", "RMSE");
     let points = pool.install(|| {
-        measure(&a.scene, &reference, &a.integrators, &budgets, &base, |p| {
+        measure(&a.scene, &reference, &a.integrators, &budgets, &base, crop, |p| {
             let cpu = p.cpu_seconds.map_or("-".into(), |c| format!("{c:.3}"));
             eprintln!("{:<40} {:>6} {:>9.3} {:>9} {:>10.5}", p.integrator, p.spp, p.seconds, cpu, p.rmse);
         })

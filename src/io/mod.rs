@@ -23,6 +23,19 @@ impl Image {
         self.pixels[(y * self.width + x) as usize]
     }
 
+    /// The rectangle of `w x h` pixels from `(x, y)`, clipped to the image.
+    pub fn crop(&self, x: u32, y: u32, w: u32, h: u32) -> Image {
+        let (x1, y1) = ((x.saturating_add(w)).min(self.width), (y.saturating_add(h)).min(self.height));
+        let (x0, y0) = (x.min(x1), y.min(y1));
+        let mut pixels = Vec::with_capacity(((x1 - x0) * (y1 - y0)) as usize);
+        for yy in y0..y1 {
+            for xx in x0..x1 {
+                pixels.push(self.get(xx, yy));
+            }
+        }
+        Image::new(x1 - x0, y1 - y0, pixels)
+    }
+
     /// Mean of every pixel.
     pub fn mean(&self) -> Vec3 {
         let s = self.pixels.iter().fold(glam::DVec3::ZERO, |a, p| a + p.as_dvec3());
