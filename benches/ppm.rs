@@ -71,12 +71,10 @@ fn radii(s: &Setup, eye: &[EyeResult]) -> Vec<f32> {
     eye.iter().map(|e| e.vp.map_or(0.0, |vp| 2.0 * s.scene.camera.pixel_footprint(vp.path_length))).collect()
 }
 
-fn gather_all(
-    s: &Setup,
-    eye: &[EyeResult],
-    r: &[f32],
-    q: &(dyn Fn(glam::Vec3A, f32, &mut dyn FnMut(&Photon)) + Sync),
-) -> u64 {
+/// A photon lookup: call the closure for every photon within a radius of a point.
+type Lookup<'a> = dyn Fn(glam::Vec3A, f32, &mut dyn FnMut(&Photon)) + Sync + 'a;
+
+fn gather_all(s: &Setup, eye: &[EyeResult], r: &[f32], q: &Lookup) -> u64 {
     eye.par_iter()
         .zip(r.par_iter())
         .map(|(e, &r)| match &e.vp {
