@@ -75,6 +75,14 @@ impl PluginConfig {
     }
 }
 
+/// A plugin config as one line, `name` or `name(params)` (film headers, summaries).
+pub fn describe_plugin(c: &PluginConfig) -> String {
+    match &c.params {
+        Some(p) => format!("{}{}", c.name, p.split_whitespace().collect::<Vec<_>>().join(" ")),
+        None => c.name.clone(),
+    }
+}
+
 /// Which accelerator to build over the scene's bounded primitives.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum AccelKind {
@@ -151,6 +159,8 @@ pub struct RenderSettings {
     pub accel: AccelKind,
     /// PNG exposure in stops.
     pub exposure: f32,
+    /// This process renders shard `k` of `n` (`(0, 1)`: the whole render).
+    pub shard: (u32, u32),
 }
 
 impl Default for RenderSettings {
@@ -169,11 +179,38 @@ impl Default for RenderSettings {
             integrator: PluginConfig::named("phong"),
             accel: AccelKind::Bvh,
             exposure: 0.0,
+            shard: (0, 1),
         }
     }
 }
 
 impl RenderSettings {
+    /// A fingerprint of every setting that changes the image (not the time budget or the PNG exposure), mixed
+    /// with `scene`, a hash of the scene file: films of different scenes or settings do not resume or merge.
+    pub fn fingerprint(&self, scene: u64) -> u64 {
+        let key = format!(
+            "{}x{} spp {:?} passes {} pass_spp {} sampler {:?} pattern {:?} filter {:?} seed {} integrator {} {:?} accel {:?}",
+            self.width,
+            self.height,
+            self.spp,
+            self.passes,
+            self.pass_spp,
+            self.sampler,
+            self.pattern,
+            self.filter,
+            self.seed,
+            self.integrator.name,
+            self.integrator.params,
+            self.accel
+        );
+        let mut h = scene ^ 0x9E37_79B9_7F4A_7C15;
+        for b in key.bytes() {
+            h ^= b as u64;
+            h = h.wrapping_mul(0x0000_0100_0000_01b3);
+        }
+        h
+    }
+
     /// The pattern pixel positions follow: the explicit one, else the sampler's (`None` for Sobol points).
     pub fn pixel_pattern(&self) -> Option<PixelPattern> {
         match (self.pattern, self.sampler) {
@@ -244,6 +281,22 @@ impl RenderSettings {
         if !self.exposure.is_finite() {
             return Err(PrismError::invalid("exposure must be finite"));
         }
+        let (k, n) = self.shard;
+        if n == 0 || k >= n {
+            return Err(PrismError::invalid(format!("--shard {k}/{n}: K must be below N")));
+        }
+        if n > 1 && self.spp.is_none() {
+            return Err(PrismError::invalid("--shard needs a sample count (--spp), not only a time budget"));
+        }
+        if let Some(spp) = self.spp
+            && n > self.passes.min(spp)
+            && n > self.height
+        {
+            return Err(PrismError::invalid(format!(
+                "--shard {k}/{n}: more shards than passes ({}) and pixel rows ({})",
+                self.passes, self.height
+            )));
+        }
         Ok(())
     }
 }
@@ -264,4 +317,5 @@ pub struct Overrides {
     pub integrator: Option<String>,
     pub accel: Option<AccelKind>,
     pub exposure: Option<f32>,
+    pub shard: Option<(u32, u32)>,
 }

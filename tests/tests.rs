@@ -16,6 +16,7 @@ mod lights;
 mod mit6837;
 mod plugin;
 mod ppm;
+mod resume;
 mod samplers;
 mod sampling;
 mod scenes;

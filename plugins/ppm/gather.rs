@@ -2,7 +2,9 @@
 //!
 //! A photon within the radius counts when it arrived on the side the visible point is seen from (its surface's
 //! geometric normal on the photon's side agrees with the visible point's on the viewer's side, so photons on the
-//! far side of a wall thinner than the radius are not gathered) and contributes `power x f(wo, wi)`.
+//! far side of a wall thinner than the radius are not gathered) and contributes `power x f(wo, wi)`. The
+//! contributions are summed in fixed point, so the sum does not depend on the order the lookup visits photons in:
+//! the hash grid and the kd-tree give the same bits, and so do row shards whose grids differ.
 //!
 //! Statistics (f64, so 10^5 iterations neither underflow the radius nor lose the flux): `n` (accumulated photon
 //! count N), `r2` (radius squared), `tau` (flux), `direct` (sum of emission and direct light from the eye passes).
@@ -12,6 +14,7 @@
 use super::photons::Photon;
 use super::visible::{EyeResult, VisiblePoint};
 use crate::bsdf::Bsdf;
+use crate::film::FixedRgb;
 use crate::scene::Scene;
 use glam::{DVec3, Vec3, Vec3A};
 
@@ -52,7 +55,7 @@ impl PixelStats {
 
     /// Fold in one iteration: the eye result (direct light, visible point weight) and the gathered flux.
     #[inline]
-    pub fn update(&mut self, eye: &EyeResult, phi: Vec3, m: u32, alpha: f64, add_direct: bool) {
+    pub fn update(&mut self, eye: &EyeResult, phi: DVec3, m: u32, alpha: f64, add_direct: bool) {
         if add_direct {
             self.direct += eye.direct.as_dvec3();
         }
@@ -63,7 +66,7 @@ impl PixelStats {
         let m = m as f64;
         let n_new = self.n + alpha * m;
         let shrink = n_new / (self.n + m);
-        let flux = self.tau + (vp.beta * phi).as_dvec3();
+        let flux = self.tau + vp.beta.as_dvec3() * phi;
         let r2_new = (self.r2 * shrink).max(self.r2 * MIN_R2_FRACTION);
         self.tau = flux * (r2_new / self.r2);
         self.r2 = r2_new;
@@ -90,19 +93,48 @@ pub fn gather(
     r: f32,
     max_segments: u32,
     query: impl FnOnce(Vec3A, f32, &mut dyn FnMut(&Photon)),
-) -> (Vec3, u32) {
+) -> (DVec3, u32) {
     let Some(bsdf) = Bsdf::new(scene.material(vp.hit.material), &vp.hit, vp.wo) else {
-        return (Vec3::ZERO, 0);
+        return (DVec3::ZERO, 0);
     };
     let ng = bsdf.geometric_normal();
-    let mut phi = Vec3::ZERO;
+    let mut phi = FixedRgb::default();
     let mut m = 0u32;
     query(vp.hit.p, r, &mut |ph: &Photon| {
         if ph.ng.dot(ng) <= 0.0 || vp.eye_depth + ph.depth + 2 > max_segments {
             return;
         }
         m += 1;
-        phi += ph.beta * bsdf.eval(ph.wi);
+        let c: Vec3 = ph.beta * bsdf.eval(ph.wi);
+        if c != Vec3::ZERO {
+            phi.add(FixedRgb::from_rgb(c.x as f64, c.y as f64, c.z as f64));
+        }
     });
-    (phi, m)
+    (phi.to_dvec3(), m)
+}
+
+/// Bytes per pixel of [`PixelStats::to_bytes`].
+pub const STATS_BYTES: usize = 64;
+
+impl PixelStats {
+    /// The statistics as 8 little-endian f64 (n, r2, tau, direct).
+    pub fn to_bytes(&self, out: &mut Vec<u8>) {
+        for v in [self.n, self.r2, self.tau.x, self.tau.y, self.tau.z, self.direct.x, self.direct.y, self.direct.z] {
+            out.extend_from_slice(&v.to_le_bytes());
+        }
+    }
+
+    /// Read what `to_bytes` wrote (`b.len() == STATS_BYTES`); `None` for non-finite or negative values.
+    pub fn from_bytes(b: &[u8]) -> Option<Self> {
+        let f = |i: usize| f64::from_le_bytes(b[8 * i..8 * i + 8].try_into().unwrap_or_default());
+        let s =
+            PixelStats { n: f(0), r2: f(1), tau: DVec3::new(f(2), f(3), f(4)), direct: DVec3::new(f(5), f(6), f(7)) };
+        let ok = s.n.is_finite()
+            && s.n >= 0.0
+            && s.r2.is_finite()
+            && s.r2 >= 0.0
+            && s.tau.is_finite()
+            && s.direct.is_finite();
+        ok.then_some(s)
+    }
 }

@@ -92,6 +92,10 @@ pub struct Ppm {
     photons_per_iteration: u64,
     photons_stored: u64,
     warned_no_visible_points: bool,
+    /// Fixed mode: the visible points of this process's eye pass exist (they are recomputed after a resume).
+    eye_ready: bool,
+    /// Rows this process renders: `(k, n)` = rows `y % n == k` (a row shard), `(0, 1)` = all.
+    rows: (u32, u32),
 }
 
 impl Ppm {
@@ -108,6 +112,8 @@ impl Ppm {
             photons_per_iteration: 0,
             photons_stored: 0,
             warned_no_visible_points: false,
+            eye_ready: false,
+            rows: (0, 1),
         }
     }
 
@@ -141,8 +147,10 @@ impl Ppm {
         let fixed = self.params.mode == PpmMode::Fixed;
         let k = self.iterations;
         let w = settings.width as usize;
-        // 1. Eye pass (fixed mode: once).
-        if !fixed || k == 0 {
+        // 1. Eye pass (fixed mode: once, with iteration 0's numbers, also after a resume).
+        if !fixed || !self.eye_ready {
+            let index = if fixed { 0 } else { k };
+            let (rk, rn) = self.rows;
             let eye = EyePass {
                 scene,
                 lights,
@@ -153,16 +161,17 @@ impl Ppm {
                 pixel_centre: fixed,
             };
             self.eye.par_chunks_mut(w).enumerate().for_each(|(y, row)| {
-                if cancel.load(Ordering::Relaxed) {
+                if cancel.load(Ordering::Relaxed) || y as u32 % rn != rk {
                     return;
                 }
                 for (x, r) in row.iter_mut().enumerate() {
-                    *r = eye.trace_pixel(x as u32, y as u32, k);
+                    *r = eye.trace_pixel(x as u32, y as u32, index);
                 }
             });
             if cancel.load(Ordering::Relaxed) {
                 return false;
             }
+            self.eye_ready = true;
         }
         // 2. Photon pass.
         let pass = PhotonPass {
@@ -209,7 +218,7 @@ impl Ppm {
                         PhotonLookup::Kdtree => kd.query(p, r, f),
                     })
                 }
-                _ => (Vec3::ZERO, 0),
+                _ => (glam::DVec3::ZERO, 0),
             };
             st.update(e, phi, m, alpha, add_direct);
         });
@@ -248,6 +257,8 @@ impl Integrator for Ppm {
         self.stats = vec![PixelStats::default(); pixels];
         self.eye = vec![EyeResult::default(); pixels];
         self.iterations = 0;
+        self.eye_ready = false;
+        self.rows = settings.shard;
         if settings.width as u64 * settings.height as u64 > u32::MAX as u64 {
             return Err(PrismError::invalid("ppm: image too large"));
         }
@@ -271,6 +282,51 @@ impl Integrator for Ppm {
             );
         }
         PassOutput::Estimate { image: self.image(fixed), complete }
+    }
+
+    fn shard_axis(&self) -> crate::integrator::ShardAxis {
+        // Iterations depend on each other (radii shrink), so shards split the pixel rows; each shard traces every
+        // photon (the same ones) and gathers for its rows only.
+        crate::integrator::ShardAxis::Rows
+    }
+
+    fn save_state(&self) -> Vec<u8> {
+        let mut out = Vec::with_capacity(16 + self.stats.len() * gather::STATS_BYTES);
+        out.extend_from_slice(&self.iterations.to_le_bytes());
+        out.extend_from_slice(&self.photons_per_iteration.to_le_bytes());
+        for s in &self.stats {
+            s.to_bytes(&mut out);
+        }
+        out
+    }
+
+    fn load_state(&mut self, state: &[u8]) -> Result<()> {
+        let expected = 16 + self.stats.len() * gather::STATS_BYTES;
+        if state.len() != expected {
+            return Err(PrismError::invalid(format!(
+                "ppm: the film's photon-mapping state has {} bytes, expected {expected} (a film of another integrator or size?)",
+                state.len()
+            )));
+        }
+        let u = |i: usize| u64::from_le_bytes(state[8 * i..8 * i + 8].try_into().unwrap_or_default());
+        let (iterations, photons) = (u(0), u(1));
+        if photons != self.photons_per_iteration {
+            return Err(PrismError::invalid(format!(
+                "ppm: the film was rendered with {photons} photons per iteration, this render uses {}",
+                self.photons_per_iteration
+            )));
+        }
+        let mut stats = Vec::with_capacity(self.stats.len());
+        for chunk in state[16..].chunks_exact(gather::STATS_BYTES) {
+            stats
+                .push(PixelStats::from_bytes(chunk).ok_or_else(|| {
+                    PrismError::invalid("ppm: the film's photon-mapping state holds invalid numbers")
+                })?);
+        }
+        self.stats = stats;
+        self.iterations = iterations;
+        self.eye_ready = false;
+        Ok(())
     }
 
     fn status(&self) -> Option<String> {

@@ -44,6 +44,8 @@ pub struct Progress {
     pub passes_done: u32,
     /// Samples per pixel merged so far (for complete passes).
     pub spp_done: u64,
+    /// Of those, the samples a resumed film brought (not rendered by this process).
+    pub spp_resumed: u64,
     pub started: Option<Instant>,
     /// Wall time spent in the Render stage.
     pub elapsed: Duration,
@@ -62,6 +64,7 @@ impl Default for Progress {
         Progress {
             passes_done: 0,
             spp_done: 0,
+            spp_resumed: 0,
             started: None,
             elapsed: Duration::ZERO,
             cpu: Some(Duration::ZERO),
@@ -97,6 +100,12 @@ pub struct Resources {
     pub cancel: Arc<AtomicBool>,
     /// Show a progress bar (the CLI enables it on a terminal).
     pub show_progress: bool,
+    /// A hash of the scene file (with the settings, the fingerprint of saved films).
+    pub scene_hash: u64,
+    /// Continue the render saved in this `.prism-film` file.
+    pub resume: Option<PathBuf>,
+    /// Where checkpoints and interruptions save the film (`.prism-film` beside the first image output).
+    pub film_path: Option<PathBuf>,
     plugin_state: HashMap<TypeId, Box<dyn Any + Send + Sync>>,
 }
 

@@ -5,6 +5,7 @@ mod bench_cmd;
 mod compare_cmd;
 mod converge_cmd;
 mod convert_cmd;
+mod merge_cmd;
 mod raytracer_cmd;
 mod render_cmd;
 
@@ -26,6 +27,8 @@ pub enum Command {
     Converge(converge_cmd::ConvergeArgs),
     /// Benchmark accelerators on scenes: build time, memory, nodes, Mrays/s (table and chart).
     Bench(bench_cmd::BenchArgs),
+    /// Combine the `.prism-film` shards of one render (`render --shard K/N`) into its image, exactly.
+    Merge(merge_cmd::MergeArgs),
     /// Convert a 6.837 scene (.txt) to a Prism RON scene.
     Convert(convert_cmd::ConvertArgs),
     /// Run a 6.837 course command line (`-input scene.txt -size 200 200 -output out.tga -grid 5 5 5 ...`).
@@ -49,6 +52,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Converge(args) => converge_cmd::run(args),
         Command::Bench(args) => bench_cmd::run(args),
         Command::Convert(args) => convert_cmd::run(args),
+        Command::Merge(args) => merge_cmd::run(args),
         Command::Raytracer(args) => raytracer_cmd::run(args),
         Command::Compare { test, reference, json } => compare_cmd::run(&test, &reference, json),
     }

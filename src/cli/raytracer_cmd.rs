@@ -132,6 +132,8 @@ pub fn run(args: RaytracerArgs) -> anyhow::Result<()> {
         exposure: None,
         checkpoint: 0.0,
         quiet: true,
+        shard: None,
+        resume: None,
     };
     if o.stats {
         let mut app = crate::App::with_default_plugins();

@@ -65,6 +65,25 @@ pub struct RenderArgs {
     /// No progress bar and no summary.
     #[arg(long, short)]
     pub quiet: bool,
+    /// Render shard K of N (`--shard 2/8`): the passes `p % N == K`, or for `ppm` the pixel rows `y % N == K`;
+    /// write it with `-o part.prism-film` and combine the parts with `prism merge`.
+    #[arg(long, value_parser = parse_shard)]
+    pub shard: Option<(u32, u32)>,
+    /// Continue the render saved in a `.prism-film` file (same scene and settings); the result equals an
+    /// uninterrupted render bit for bit.
+    #[arg(long)]
+    pub resume: Option<PathBuf>,
+}
+
+/// `K/N` with `K < N`.
+pub(super) fn parse_shard(s: &str) -> Result<(u32, u32), String> {
+    let (k, n) = s.split_once('/').ok_or_else(|| format!("expected K/N, got '{s}'"))?;
+    let k = k.trim().parse::<u32>().map_err(|_| format!("bad shard index in '{s}'"))?;
+    let n = n.trim().parse::<u32>().map_err(|_| format!("bad shard count in '{s}'"))?;
+    if n == 0 || k >= n {
+        return Err(format!("shard '{s}': need 0 <= K < N"));
+    }
+    Ok((k, n))
 }
 
 pub(super) fn parse_accel(s: &str) -> Result<AccelKind, String> {
@@ -152,10 +171,12 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
     };
     for o in &outputs {
         let ext = o.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
-        if ext != "png" && ext != "exr" {
-            return Err(
-                PrismError::invalid(format!("{}: unsupported output format (use .png or .exr)", o.display())).into()
-            );
+        if ext != "png" && ext != "exr" && !crate::io::is_film_path(o) {
+            return Err(PrismError::invalid(format!(
+                "{}: unsupported output format (use .png, .exr or .prism-film)",
+                o.display()
+            ))
+            .into());
         }
     }
     let mut app = App::with_default_plugins();
@@ -174,8 +195,16 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
         integrator: args.integrator.clone(),
         accel: accel_override(args.accel, args.grid.as_deref())?,
         exposure: args.exposure,
+        shard: args.shard,
     };
     r.outputs = outputs.clone();
+    r.resume = args.resume.clone();
+    // Checkpoints and interruptions save the film beside the first output (or in the .prism-film output).
+    r.film_path = outputs
+        .iter()
+        .find(|o| crate::io::is_film_path(o))
+        .cloned()
+        .or_else(|| outputs.first().map(|o| o.with_extension("prism-film")));
     r.checkpoint_every = (args.checkpoint > 0.0).then(|| Duration::from_secs_f64(args.checkpoint));
     r.cancel = cancel_flag();
     r.show_progress = !args.quiet && std::io::stderr().is_terminal();
@@ -194,7 +223,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
     let s = &res.settings;
     if !args.quiet {
         let render_s = p.elapsed.as_secs_f64();
-        let samples = p.spp_done as f64 * s.width as f64 * s.height as f64;
+        let samples = (p.spp_done - p.spp_resumed) as f64 * s.width as f64 * s.height as f64;
         eprintln!(
             "{}x{} {} spp ({} passes, {}, {}, {} sampler) in {:.2} s render + {:.2} s setup ({:.2} Msamples/s); wrote {}",
             s.width,
@@ -221,8 +250,9 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
     if p.interrupted {
         let (lo, hi) = res.film.as_ref().map_or((0, 0), |f| f.sample_range());
         return Err(anyhow::anyhow!(
-            "interrupted: wrote what was rendered ({} complete passes; {lo} to {hi} samples per pixel)",
-            p.passes_done
+            "interrupted: wrote what was rendered ({} complete passes; {lo} to {hi} samples per pixel){}",
+            p.passes_done,
+            res.film_path.as_ref().map_or(String::new(), |f| format!("; continue with --resume {}", f.display()))
         ));
     }
     Ok(())

@@ -16,6 +16,7 @@ pub use per_pixel::{PerPixel, TILE_SIZE, tiles};
 pub use registry::{IntegratorFactory, IntegratorRegistry};
 
 use crate::error::Result;
+pub use crate::film::ShardAxis;
 use crate::geometry::Ray;
 use crate::sampling::Sampler;
 use crate::scene::Scene;
@@ -77,6 +78,26 @@ pub trait Integrator: Send + Sync {
     /// A short progress note for the progress bar and the render summary (e.g. photons traced).
     fn status(&self) -> Option<String> {
         None
+    }
+
+    /// How `--shard K/N` splits this integrator's work: by passes (the default: independent sample sums add up) or
+    /// by pixel rows (for methods whose passes depend on each other, such as progressive photon mapping).
+    fn shard_axis(&self) -> ShardAxis {
+        ShardAxis::Passes
+    }
+
+    /// The state a resumed render needs besides the film (saved in `.prism-film` files); empty by default.
+    fn save_state(&self) -> Vec<u8> {
+        Vec::new()
+    }
+
+    /// Restore what `save_state` saved (after `prepare`).
+    fn load_state(&mut self, state: &[u8]) -> Result<()> {
+        if state.is_empty() {
+            Ok(())
+        } else {
+            Err(crate::error::PrismError::invalid("this integrator keeps no state, but the film file has some"))
+        }
     }
 }
 

@@ -58,6 +58,18 @@ fn finish(tmp: &Path, path: &Path) -> Result<()> {
     std::fs::rename(tmp, path).map_err(|e| PrismError::io(path, e))
 }
 
+/// True for `.prism-film` paths (film files, not images).
+pub fn is_film_path(path: &Path) -> bool {
+    path.file_name().and_then(|n| n.to_str()).is_some_and(|n| n.to_ascii_lowercase().ends_with(".prism-film"))
+}
+
+/// Write bytes to `path` through a temporary file renamed into place (never a half-written file).
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
+    let tmp = temp_path(path);
+    std::fs::write(&tmp, bytes).map_err(|e| PrismError::io(path, e))?;
+    finish(&tmp, path)
+}
+
 /// Write `img` to `path`; the format follows the extension (`.exr` linear, `.png` sRGB after `exposure` stops).
 pub fn write_image(path: &Path, img: &Image, exposure: f32) -> Result<()> {
     let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();

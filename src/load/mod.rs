@@ -32,6 +32,11 @@ pub fn entity_label(world: &World, e: hecs::Entity) -> String {
 
 /// Load-stage system: spawn the scene's entities and resolve the settings.
 pub fn load_scene_system(world: &mut World, res: &mut Resources) -> Result<()> {
+    res.scene_hash = match &res.source {
+        SceneSource::Prebuilt => 0,
+        SceneSource::File(path) => std::fs::read(path).map(|b| hash_bytes(&b)).unwrap_or(0),
+        SceneSource::RonText { text, .. } => hash_bytes(text.as_bytes()),
+    };
     let file_settings = match res.source.clone() {
         SceneSource::Prebuilt => FileSettings::default(),
         SceneSource::File(path) => load_file(&path, world, res)?,
@@ -44,6 +49,11 @@ pub fn load_scene_system(world: &mut World, res: &mut Resources) -> Result<()> {
         res.materials.push(Material::default());
     }
     resolve_settings(world, res, file_settings)
+}
+
+/// FNV-1a 64 of a scene file (part of a film's fingerprint).
+fn hash_bytes(b: &[u8]) -> u64 {
+    b.iter().fold(0xcbf2_9ce4_8422_2325u64, |h, &x| (h ^ x as u64).wrapping_mul(0x0000_0100_0000_01b3))
 }
 
 fn load_file(path: &Path, world: &mut World, res: &mut Resources) -> Result<FileSettings> {
@@ -176,6 +186,7 @@ fn resolve_settings(world: &mut World, res: &mut Resources, f: FileSettings) -> 
         integrator,
         accel: o.accel.or(f.accel).unwrap_or(d.accel),
         exposure: o.exposure.or(f.exposure).unwrap_or(d.exposure),
+        shard: o.shard.unwrap_or(d.shard),
     };
     res.settings.validate()?;
     if !res.integrators.contains(&res.settings.integrator.name) {

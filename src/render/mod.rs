@@ -7,6 +7,11 @@
 //! - Accumulate: [`accumulate_system`] merges it into the film, reports progress, writes checkpoints and decides
 //!   whether another pass runs (pass count, time budget, cancellation);
 //! - Output: [`output_system`] writes the images.
+//!
+//! Shards and resumes (`--shard K/N`, `--resume F`, `.prism-film` outputs): a shard renders the passes `p % N == K`
+//! (or, for integrators that shard by pixel rows, every pass for the rows `y % N == K`); a resumed render loads the
+//! film, its progress and the integrator's state, then continues with the next pass. Checkpoints and interruptions
+//! save the film (complete passes only) beside the first image output, so no work is lost.
 
 mod progress;
 
@@ -17,7 +22,7 @@ use crate::app::Resources;
 use crate::camera::CameraRig;
 use crate::components::{Camera, WorldFromLocal};
 use crate::error::{PrismError, Result};
-use crate::film::Film;
+use crate::film::{Film, FilmHeader, ShardAxis, read_film, write_film};
 use crate::integrator::{PassInfo, PassOutput};
 use crate::io::{Image, write_image};
 use crate::lights::LightSet;
@@ -67,8 +72,17 @@ pub fn prepare_integrator_system(_world: &mut World, res: &mut Resources) -> Res
     let t0 = Instant::now();
     let mut integrator = res.integrators.create(&res.settings.integrator)?;
     integrator.prepare(res.scene()?, &res.settings)?;
+    let mut film = Film::new(res.settings.width, res.settings.height);
+    let (k, n) = res.settings.shard;
+    if n > 1 && integrator.shard_axis() == ShardAxis::Rows {
+        film.rows = Some((k, n));
+    }
+    res.film = Some(film);
+    if let Some(path) = res.resume.clone() {
+        resume(res, &mut *integrator, &path)?;
+    }
     res.integrator = Some(integrator);
-    res.film = Some(Film::new(res.settings.width, res.settings.height));
+    skip_to_own_pass(res);
     res.progress.setup += t0.elapsed();
     if res.show_progress {
         res.insert(ProgressReporter::new(&res.settings));
@@ -80,7 +94,90 @@ pub fn prepare_integrator_system(_world: &mut World, res: &mut Resources) -> Res
     Ok(())
 }
 
+/// The film header describing this render's progress.
+fn film_header(res: &Resources) -> FilmHeader {
+    let axis = res.integrator.as_ref().map_or(ShardAxis::Passes, |i| i.shard_axis());
+    FilmHeader {
+        width: res.settings.width,
+        height: res.settings.height,
+        passes_done: res.progress.passes_done,
+        passes: res.settings.passes,
+        spp_done: res.progress.spp_done,
+        shard: res.settings.shard,
+        axis,
+        fingerprint: res.settings.fingerprint(res.scene_hash),
+        integrator: crate::settings::describe_plugin(&res.settings.integrator),
+    }
+}
+
+/// Load a `.prism-film` file into the film, the progress and the integrator.
+fn resume(
+    res: &mut Resources,
+    integrator: &mut dyn crate::integrator::Integrator,
+    path: &std::path::Path,
+) -> Result<()> {
+    let f = read_film(path)?;
+    let expected = FilmHeader { passes_done: f.header.passes_done, spp_done: f.header.spp_done, ..film_header(res) };
+    let h = &f.header;
+    if (h.width, h.height) != (expected.width, expected.height) {
+        return Err(PrismError::format(
+            path,
+            format!("film is {}x{}, the render {}x{}", h.width, h.height, expected.width, expected.height),
+        ));
+    }
+    if h.integrator != expected.integrator {
+        return Err(PrismError::format(
+            path,
+            format!("film was rendered with `{}`, not `{}`", h.integrator, expected.integrator),
+        ));
+    }
+    if h.shard != expected.shard {
+        return Err(PrismError::format(
+            path,
+            format!(
+                "film is shard {}/{}, the render shard {}/{}",
+                h.shard.0, h.shard.1, expected.shard.0, expected.shard.1
+            ),
+        ));
+    }
+    if h.fingerprint != expected.fingerprint {
+        return Err(PrismError::format(
+            path,
+            "film was rendered from a different scene file or settings (spp, passes, size, sampler, seed ...)",
+        ));
+    }
+    integrator.load_state(&f.state).map_err(|e| PrismError::format(path, e.to_string()))?;
+    let mut film = f.film;
+    film.rows = res.film.as_ref().and_then(|x| x.rows);
+    res.film = Some(film);
+    res.progress.passes_done = h.passes_done;
+    res.progress.spp_done = h.spp_done;
+    res.progress.spp_resumed = h.spp_done;
+    if h.passes_done >= res.settings.passes {
+        res.progress.finished = true;
+    }
+    Ok(())
+}
+
+/// Advance to the next pass this process renders (shards by passes skip the other shards' passes).
+fn skip_to_own_pass(res: &mut Resources) {
+    let (k, n) = res.settings.shard;
+    let by_passes = res.integrator.as_ref().is_none_or(|i| i.shard_axis() == ShardAxis::Passes);
+    if n > 1 && by_passes {
+        let p = &mut res.progress.passes_done;
+        while *p < res.settings.passes && *p % n != k {
+            *p += 1;
+        }
+    }
+    if res.progress.passes_done >= res.settings.passes {
+        res.progress.finished = true;
+    }
+}
+
 pub fn render_pass_system(_world: &mut World, res: &mut Resources) -> Result<()> {
+    if res.progress.finished {
+        return Ok(());
+    }
     let pass = res.progress.passes_done;
     let started = *res.progress.started.get_or_insert_with(Instant::now);
     let info = PassInfo {
@@ -108,24 +205,27 @@ pub fn accumulate_system(_world: &mut World, res: &mut Resources) -> Result<()> 
         return Ok(());
     };
     let film = res.film.as_mut().ok_or_else(|| PrismError::invalid("no film: the Prepare stage did not run"))?;
-    film.merge(&out);
     let complete = match &out {
         PassOutput::Samples(tiles) => tiles.len() == crate::integrator::tiles(film.width, film.height).len(),
         PassOutput::Estimate { complete, .. } => *complete,
     };
+    film.merge(&out, complete);
     let p = &mut res.progress;
     if complete {
         p.spp_done += res.settings.samples_in_pass(p.passes_done) as u64;
         p.passes_done += 1;
     }
+    skip_to_own_pass(res);
+    let p = &mut res.progress;
     let s = &res.settings;
     let elapsed = p.elapsed.as_secs_f64();
     let out_of_passes = p.passes_done >= s.passes;
+    let finished_before = p.finished;
     let out_of_time = s.time_budget.is_some_and(|t| elapsed >= t);
     if res.cancel.load(Ordering::Relaxed) {
         p.finished = true;
         p.interrupted = true;
-    } else if out_of_passes || out_of_time {
+    } else if out_of_passes || out_of_time || finished_before {
         p.finished = true;
     }
     let (passes_done, spp_done, finished) = (p.passes_done, p.spp_done, p.finished);
@@ -133,15 +233,28 @@ pub fn accumulate_system(_world: &mut World, res: &mut Resources) -> Result<()> 
         let note = res.integrator.as_ref().and_then(|i| i.status());
         bar.update(passes_done, spp_done, elapsed, note.as_deref());
     }
-    // Checkpoint: keep what was rendered on disk while long renders run.
+    // Checkpoint: keep what was rendered on disk (images and the resumable film) while long renders run.
     if !finished
         && let Some(every) = res.checkpoint_every
         && res.get::<LastCheckpoint>().is_none_or(|c| c.0.elapsed() >= every)
     {
         write_outputs(res)?;
+        save_film(res)?;
         res.insert(LastCheckpoint(Instant::now()));
     }
     Ok(())
+}
+
+/// Save the film (complete passes only) and the integrator's state where checkpoints go.
+fn save_film(res: &Resources) -> Result<()> {
+    let Some(path) = &res.film_path else { return Ok(()) };
+    write_film_to(res, path)
+}
+
+fn write_film_to(res: &Resources, path: &std::path::Path) -> Result<()> {
+    let film = res.film.as_ref().ok_or_else(|| PrismError::invalid("no film to write"))?;
+    let state = res.integrator.as_ref().map(|i| i.save_state()).unwrap_or_default();
+    write_film(path, &film_header(res), film, &state)
 }
 
 struct LastCheckpoint(Instant);
@@ -150,7 +263,18 @@ pub fn output_system(_world: &mut World, res: &mut Resources) -> Result<()> {
     if let Some(bar) = res.get::<ProgressReporter>() {
         bar.finish();
     }
-    write_outputs(res)
+    write_outputs(res)?;
+    if res.progress.interrupted {
+        // Nothing is lost: the film resumes with `--resume`.
+        save_film(res)?;
+    } else if let Some(path) = &res.film_path
+        && res.get::<LastCheckpoint>().is_some()
+        && !res.outputs.iter().any(|o| o == path)
+    {
+        // A checkpoint's film is stale once the render completes.
+        let _ = std::fs::remove_file(path);
+    }
+    Ok(())
 }
 
 /// The film's current image.
@@ -164,7 +288,11 @@ fn write_outputs(res: &Resources) -> Result<()> {
     }
     let img = film_image(res).ok_or_else(|| PrismError::invalid("no film to write"))?;
     for path in &res.outputs {
-        write_image(path, &img, res.settings.exposure)?;
+        if crate::io::is_film_path(path) {
+            write_film_to(res, path)?;
+        } else {
+            write_image(path, &img, res.settings.exposure)?;
+        }
     }
     Ok(())
 }

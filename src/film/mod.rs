@@ -1,0 +1,156 @@
+//! The film: per-pixel linear HDR radiance sums in fixed point ([`fixed`]) and sample counts, so any prefix of a
+//! progressive render is a valid image and films add exactly: a render resumed from a `.prism-film` file, or merged
+//! from shards, equals the one-process render bit for bit.
+//!
+//! Only **complete** passes are committed to the sums; the tiles of a pass cut short (cancellation) are kept apart
+//! and shown in images (each pixel is then the mean of all its own samples) but never saved, so a saved film always
+//! describes a whole number of passes and resumes exactly. Methods whose estimate is not a mean of samples
+//! (photon mapping) replace the film's content with their estimate, counted as one sample per pixel they cover.
+
+pub mod file;
+pub mod fixed;
+
+pub use file::{FilmFile, FilmHeader, ShardAxis, read_film, write_film};
+pub use fixed::FixedRgb;
+
+use crate::integrator::{PassOutput, TileSamples};
+use glam::Vec3;
+
+#[derive(Clone, Debug)]
+pub struct Film {
+    pub width: u32,
+    pub height: u32,
+    sum: Vec<FixedRgb>,
+    count: Vec<u64>,
+    /// Tiles of a pass cut short: shown, never saved.
+    partial: Vec<TileSamples>,
+    /// Samples replaced by 0 because they were NaN or infinite.
+    pub nonfinite: u64,
+    /// For a film that covers pixel rows `y % n == k` only (a row shard): `(k, n)`.
+    pub rows: Option<(u32, u32)>,
+}
+
+impl Film {
+    pub fn new(width: u32, height: u32) -> Self {
+        let n = width as usize * height as usize;
+        Film {
+            width,
+            height,
+            sum: vec![FixedRgb::default(); n],
+            count: vec![0; n],
+            partial: vec![],
+            nonfinite: 0,
+            rows: None,
+        }
+    }
+
+    /// A film from saved sums and counts (`sum.len() == count.len() == width * height`).
+    pub fn from_parts(width: u32, height: u32, sum: Vec<FixedRgb>, count: Vec<u64>, nonfinite: u64) -> Self {
+        Film { width, height, sum, count, partial: vec![], nonfinite, rows: None }
+    }
+
+    /// The committed sums and counts, row-major.
+    pub fn parts(&self) -> (&[FixedRgb], &[u64]) {
+        (&self.sum, &self.count)
+    }
+
+    /// True when row `y` belongs to this film.
+    #[inline]
+    fn covers_row(&self, y: u32) -> bool {
+        self.rows.is_none_or(|(k, n)| y % n == k)
+    }
+
+    fn add_tile(&mut self, t: &TileSamples) {
+        for y in 0..t.tile.h {
+            for x in 0..t.tile.w {
+                let i = ((t.tile.y0 + y) * self.width + t.tile.x0 + x) as usize;
+                let s = t.sums[(y * t.tile.w + x) as usize];
+                self.sum[i].add(FixedRgb::from_rgb(s.x as f64, s.y as f64, s.z as f64));
+                self.count[i] += t.spp as u64;
+            }
+        }
+        self.nonfinite += t.nonfinite as u64;
+    }
+
+    /// Replace the content by a whole-image estimate (each covered pixel counts as one sample).
+    pub fn set_estimate(&mut self, image: &[Vec3]) {
+        for (i, v) in image.iter().enumerate() {
+            let y = i as u32 / self.width.max(1);
+            if !self.covers_row(y) {
+                continue;
+            }
+            let v = if v.is_finite() { *v } else { Vec3::ZERO };
+            self.sum[i] = FixedRgb::from_rgb(v.x as f64, v.y as f64, v.z as f64);
+            self.count[i] = 1;
+        }
+    }
+
+    /// Add a pass: committed when `complete`, otherwise kept apart as the visible part of an unfinished pass.
+    pub fn merge(&mut self, out: &PassOutput, complete: bool) {
+        self.partial.clear();
+        match out {
+            PassOutput::Samples(tiles) if complete => tiles.iter().for_each(|t| self.add_tile(t)),
+            PassOutput::Samples(tiles) => self.partial = tiles.clone(),
+            // An estimate of an unfinished pass is the last complete one's (the integrator keeps it so).
+            PassOutput::Estimate { image, .. } => self.set_estimate(image),
+        }
+    }
+
+    /// Add another film's sums and counts (shards of one render); sizes must match.
+    pub fn accumulate(&mut self, other: &Film) {
+        for (a, b) in self.sum.iter_mut().zip(&other.sum) {
+            a.add(*b);
+        }
+        for (a, b) in self.count.iter_mut().zip(&other.count) {
+            *a += b;
+        }
+        self.nonfinite += other.nonfinite;
+    }
+
+    /// The partial pass's sums and counts per pixel (zero where it has none).
+    fn partial_at(&self) -> Vec<(Vec3, u64)> {
+        let mut out = vec![(Vec3::ZERO, 0u64); self.sum.len()];
+        for t in &self.partial {
+            for y in 0..t.tile.h {
+                for x in 0..t.tile.w {
+                    let i = ((t.tile.y0 + y) * self.width + t.tile.x0 + x) as usize;
+                    out[i].0 += t.sums[(y * t.tile.w + x) as usize];
+                    out[i].1 += t.spp as u64;
+                }
+            }
+        }
+        out
+    }
+
+    /// Mean radiance of a pixel over its committed and partial samples (0 if it has none).
+    pub fn pixel(&self, x: u32, y: u32) -> Vec3 {
+        let i = (y * self.width + x) as usize;
+        self.image()[i]
+    }
+
+    /// The current image, row-major from the top-left pixel.
+    pub fn image(&self) -> Vec<Vec3> {
+        let partial = (!self.partial.is_empty()).then(|| self.partial_at());
+        self.sum
+            .iter()
+            .zip(&self.count)
+            .enumerate()
+            .map(|(i, (s, &c))| {
+                let (mut total, mut n) = (s.to_dvec3(), c);
+                if let Some(p) = &partial {
+                    total += p[i].0.as_dvec3();
+                    n += p[i].1;
+                }
+                if n == 0 { Vec3::ZERO } else { (total / n as f64).as_vec3() }
+            })
+            .collect()
+    }
+
+    /// Fewest and most samples any pixel has, partial pass included (they differ after a pass cut short).
+    pub fn sample_range(&self) -> (u64, u64) {
+        let partial = self.partial_at();
+        let counts = self.count.iter().zip(&partial).map(|(c, p)| c + p.1);
+        let (lo, hi) = counts.fold((u64::MAX, 0), |(lo, hi), c| (lo.min(c), hi.max(c)));
+        (if lo == u64::MAX { 0 } else { lo }, hi)
+    }
+}
