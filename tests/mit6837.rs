@@ -234,9 +234,9 @@ fn transforms_nest_and_material_index_applies_in_file_order() {
     let t0 = s.prims.tris[0];
     assert!(close(t0[0], [1.0, 2.0, 3.0]) && close(t0[1], [1.0, 4.0, 3.0]) && close(t0[2], [-1.0, 2.0, 3.0]), "{t0:?}");
     // The triangle after the nested group still has material 2 (file order, not tree scope).
-    let mat = |i: usize| s.materials[s.prims.tri_shading[i].material as usize].diffuse;
-    assert_eq!(mat(0), Vec3::Z);
-    assert_eq!(mat(1), Vec3::Z);
+    let mat = |i: usize| s.materials[s.prims.tri_shading[i].material as usize].phong_params().unwrap().diffuse;
+    assert_eq!(mat(0), prism::texture::ColorParam::Const(Vec3::Z));
+    assert_eq!(mat(1), prism::texture::ColorParam::Const(Vec3::Z));
     // Matrix is pre-multiplied as in the course: M T(5,0,0) S(3): (1,0,0) -> (3,0,0) -> (8,0,0) -> (18,20,30).
     let t2 = s.prims.tris[2];
     assert!(close(t2[0], [15.0, 20.0, 30.0]) && close(t2[1], [18.0, 20.0, 30.0]), "{t2:?}");

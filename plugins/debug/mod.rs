@@ -167,7 +167,12 @@ impl PixelIntegrator for DebugView {
         match self.params.mode {
             DebugMode::GridCells => self.grid_cell(scene, &ray),
             DebugMode::Normals => scene.trace(&ray).map_or(Vec3::ZERO, |s| {
-                let n = Vec3::from(s.ns);
+                // The BSDF's shading normal (normal and bump maps included), on the side of the surface's normal.
+                let n = scene.bsdf(&s, -ray.dir).map_or(s.ns, |b| {
+                    let n = b.normal();
+                    if n.dot(s.ng) < 0.0 { -n } else { n }
+                });
+                let n = Vec3::from(n);
                 srgb(if self.params.signed { 0.5 * (n + 1.0) } else { n.abs() })
             }),
             DebugMode::Depth => scene

@@ -62,8 +62,8 @@ impl PathTracer {
             let (Some(env), Some(es)) = (&lights.environment, &self.env) else { return Vec3::ZERO };
             let Some((wi, pdf)) = es.sample(env, n, u) else { return Vec3::ZERO };
             let f = bsdf.eval(wi);
-            let cos = wi.dot(n);
-            if f == Vec3::ZERO || cos <= 0.0 || scene.occluded(&s.spawn(wi)) {
+            let cos = wi.dot(n).abs();
+            if f == Vec3::ZERO || scene.occluded(&s.spawn(wi)) {
                 return Vec3::ZERO;
             }
             let light_pdf = p_choice * pdf;
@@ -72,8 +72,8 @@ impl PathTracer {
         }
         let Some(ls) = lights.sample(slot, &scene.prims, s.p, u) else { return Vec3::ZERO };
         let f = bsdf.eval(ls.wi);
-        let cos = ls.wi.dot(n);
-        if f == Vec3::ZERO || cos <= 0.0 || scene.occluded(&s.spawn_to(&ls)) {
+        let cos = ls.wi.dot(n).abs();
+        if f == Vec3::ZERO || scene.occluded(&s.spawn_to(&ls)) {
             return Vec3::ZERO;
         }
         let light_pdf = p_choice * ls.pdf;
@@ -124,7 +124,7 @@ impl PixelIntegrator for PathTracer {
             if max_depth >= 0 && depth + 1 >= max_depth {
                 break;
             }
-            let Some(bsdf) = Bsdf::new(scene.material(s.material), &s, wo) else { break };
+            let Some(bsdf) = scene.bsdf(&s, wo) else { break };
             // The first vertex draws stratified light and BSDF samples (dimensions 0 and 1 of the pixel sample).
             let (u_light, u_bsdf) = if depth == 0 {
                 (sample.stratified_2d(0, rng), sample.stratified_2d(1, rng))
