@@ -5,6 +5,7 @@ mod common;
 
 mod accel;
 mod analytic;
+mod appearance;
 mod converge;
 mod debug;
 mod determinism;
@@ -12,6 +13,7 @@ mod envlight;
 mod envmap;
 mod geometry;
 mod io;
+mod microfacet;
 mod mit6837;
 mod plugin;
 mod sampling;

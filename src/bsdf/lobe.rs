@@ -293,7 +293,13 @@ impl Lobe {
             Lobe::RoughDielectric { alpha, eta, .. } => {
                 let m = sample_visible(wo, alpha, u);
                 let f = fresnel_dielectric(wo.dot(m), eta);
-                if uc < f { dir(reflect_about(wo, m)) } else { dir(refract_about(wo, m, eta)?) }
+                // A reflection must stay above the surface and a refraction go below it (microfacets tilted far
+                // enough can send either to the wrong side; the pdf counts them on the side they land).
+                let wi = if uc < f { reflect_about(wo, m) } else { refract_about(wo, m, eta)? };
+                if (wi.z > 0.0) != (uc < f) {
+                    return None;
+                }
+                dir(wi)
             }
             Lobe::Plastic { alpha, eta, diffuse, specular, .. } => {
                 if uc < plastic_specular_probability(wo, eta, diffuse, specular) {

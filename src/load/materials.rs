@@ -252,7 +252,6 @@ fn phong(
 }
 
 fn material(name: &str, d: &MaterialDesc, c: &Ctx) -> Result<(Material, Option<(Vec3, bool)>)> {
-    let zero = ColorDesc::Rgb([0.0; 3]);
     let sided = |mut m: Material, two_sided: bool| {
         m.two_sided = two_sided;
         m
@@ -260,9 +259,8 @@ fn material(name: &str, d: &MaterialDesc, c: &Ctx) -> Result<(Material, Option<(
     let kind = |kind: MaterialKind, two_sided: bool| Material { name: name.to_string(), kind, two_sided };
     Ok(match d {
         MaterialDesc::Lambert { albedo, two_sided } => {
-            let m =
-                phong(name, c, [&zero, albedo, &zero, &zero, &zero], &ScalarDesc::Value(1.0), 1.5, Shading::Physical)?;
-            (sided(m, *two_sided), None)
+            let p = PhongParams { diffuse: c.color(albedo, "albedo")?, ..PhongParams::default() };
+            (sided(Material::phong(name, p), *two_sided), None)
         }
         MaterialDesc::Phong { ambient, diffuse, specular, exponent, reflective, transparent, ior, two_sided } => {
             let colors = [ambient, diffuse, specular, reflective, transparent];
@@ -274,12 +272,16 @@ fn material(name: &str, d: &MaterialDesc, c: &Ctx) -> Result<(Material, Option<(
             (sided(phong(name, c, colors, exponent, *ior, Shading::Mit6837)?, *two_sided), None)
         }
         MaterialDesc::Mirror { reflectance } => {
-            let colors = [&zero, &zero, &zero, reflectance, &zero];
-            (phong(name, c, colors, &ScalarDesc::Value(1.0), 1.5, Shading::Physical)?, None)
+            let p = PhongParams { reflective: c.color(reflectance, "reflectance")?, ..PhongParams::default() };
+            (Material::phong(name, p), None)
         }
         MaterialDesc::Glass { ior, transmittance } => {
-            let colors = [&zero, &zero, &zero, &zero, transmittance];
-            (phong(name, c, colors, &ScalarDesc::Value(1.0), *ior, Shading::Physical)?, None)
+            let p = PhongParams {
+                transparent: c.color(transmittance, "transmittance")?,
+                ior: check_ior(*ior, c)?,
+                ..PhongParams::default()
+            };
+            (Material::phong(name, p), None)
         }
         MaterialDesc::Emissive { radiance, two_sided } => {
             let r = Vec3::from(*radiance);
