@@ -2,7 +2,8 @@
 //! scene; the course's conventions come out as the course's formulas (diffuse `kd c cos`, ambient `ka kd`,
 //! Blinn-Phong specular, point-light attenuation, refraction without Fresnel, flat colours without lights,
 //! orthographic rays from behind the camera); transforms and `MaterialIndex` compose as in the course parser;
-//! malformed files give one-line `file:line:col` errors, never a panic; course command lines run.
+//! malformed files give one-line `file:line:col` errors, never a panic; course command lines run. Assignments 6
+//! and 7 (solid textures, TGA output): `tests/mit6837_solid.rs`.
 
 use crate::common::{app_from_file, data, prism, render_file, scratch};
 use glam::{Vec3, Vec3A};
@@ -339,8 +340,10 @@ fn course_command_lines_of_assignment_5_run_through_prism_raytracer() {
         let o = prism(&refs);
         assert!(o.status.success(), "{line}: {}", String::from_utf8_lossy(&o.stderr));
         if let Some(i) = args.iter().position(|a| a == "-output") {
-            let png = PathBuf::from(&args[i + 1]).with_extension("png");
-            assert!(png.is_file(), "{line}: {} not written", png.display());
+            // Written where the course asks, in the course's format.
+            let tga = PathBuf::from(&args[i + 1]);
+            let bytes = std::fs::read(&tga).unwrap_or_else(|_| panic!("{line}: {} not written", tga.display()));
+            assert_eq!(bytes.len(), 18 + 32 * 32 * 3, "{line}: a 32x32 24-bit TGA");
         }
         ran += 1;
     }

@@ -15,6 +15,7 @@ mod geometry;
 mod io;
 mod microfacet;
 mod mit6837;
+mod mit6837_solid;
 mod plugin;
 mod sampling;
 mod scenes;
