@@ -27,6 +27,8 @@ pub struct TriShading {
     pub light: u32,
     /// Index into `Primitives::tri_tangents`, or [`NO_TANGENTS`] (only normal-mapped meshes have them).
     pub tangents: u32,
+    /// dp/du and dp/dv (constant over the triangle), computed once when the triangle is built.
+    pub dpduv: [Vec3; 2],
 }
 
 /// Marks a triangle without vertex tangents.
@@ -277,7 +279,7 @@ impl Primitives {
             };
             let uv = b0 * sh.uvs[0] + hit.b1 * sh.uvs[1] + hit.b2 * sh.uvs[2];
             let p_err = interpolation_error([b0, hit.b1, hit.b2], &[p0, p1, p2]);
-            let (dpdu, dpdv) = triangle_dpduv([p0, p1, p2], sh.uvs, ng);
+            let (dpdu, dpdv) = (Vec3A::from(sh.dpduv[0]), Vec3A::from(sh.dpduv[1]));
             SurfaceHit {
                 p,
                 p_err,
@@ -396,13 +398,16 @@ impl Primitives {
                         return Err(PrismError::scene(name(), "triangle has zero area (or non-finite vertices)"));
                     }
                     let normals = n.map(|n| n.map(|q| transform_normal(&m, q.into())));
+                    let uvs = uv.unwrap_or([Vec2::ZERO, Vec2::X, Vec2::Y]);
+                    let dpduv = triangle_dpduv(v, uvs);
                     prims.tris.push(v);
                     prims.tri_shading.push(TriShading {
                         normals,
-                        uvs: uv.unwrap_or([Vec2::ZERO, Vec2::X, Vec2::Y]),
+                        uvs,
                         material,
                         light: light_slot,
                         tangents: NO_TANGENTS,
+                        dpduv,
                     });
                 }
                 Shape::Mesh(h) => {
@@ -438,8 +443,16 @@ impl Primitives {
                             }
                             None => NO_TANGENTS,
                         };
+                        let dpduv = triangle_dpduv(v, uvs);
                         prims.tris.push(v);
-                        prims.tri_shading.push(TriShading { normals, uvs, material, light: light_slot, tangents });
+                        prims.tri_shading.push(TriShading {
+                            normals,
+                            uvs,
+                            material,
+                            light: light_slot,
+                            tangents,
+                            dpduv,
+                        });
                     }
                 }
             }
@@ -514,10 +527,10 @@ fn sphere_uv(n: Vec3A, r: f32) -> (Vec2, Vec3A, Vec3A) {
     (Vec2::new(u, v), dpdu, dpdv)
 }
 
-/// dp/du and dp/dv of a triangle from its vertex uvs (pbrt-v4's formulas); a frame around `ng` when the uvs are
-/// degenerate.
-#[inline]
-fn triangle_dpduv(p: [Vec3A; 3], uv: [Vec2; 3], ng: Vec3A) -> (Vec3A, Vec3A) {
+/// dp/du and dp/dv of a triangle from its vertex uvs (pbrt-v4's formulas); a frame around the normal when the uvs
+/// are degenerate.
+fn triangle_dpduv(p: [Vec3A; 3], uv: [Vec2; 3]) -> [Vec3; 2] {
+    let ng = (p[1] - p[0]).cross(p[2] - p[0]).normalize();
     let (duv02, duv12) = (uv[0] - uv[2], uv[1] - uv[2]);
     let (dp02, dp12) = (p[0] - p[2], p[1] - p[2]);
     let det = duv02.x * duv12.y - duv02.y * duv12.x;
@@ -526,11 +539,11 @@ fn triangle_dpduv(p: [Vec3A; 3], uv: [Vec2; 3], ng: Vec3A) -> (Vec3A, Vec3A) {
         let dpdu = (duv12.y * dp02 - duv02.y * dp12) * inv;
         let dpdv = (duv02.x * dp12 - duv12.x * dp02) * inv;
         if dpdu.cross(dpdv).length_squared() > 0.0 && dpdu.is_finite() && dpdv.is_finite() {
-            return (dpdu, dpdv);
+            return [dpdu.into(), dpdv.into()];
         }
     }
     let f = crate::math::Frame::from_normal(ng);
-    (f.s, f.t)
+    [f.s.into(), f.t.into()]
 }
 
 /// World-space position of the local point `p` (used by lights).

@@ -26,7 +26,7 @@ use crate::math::Frame;
 use glam::{Vec2, Vec3, Vec3A};
 
 /// Most lobes one BSDF holds (checked when a material is loaded).
-pub const MAX_LOBES: usize = 8;
+pub const MAX_LOBES: usize = 4;
 
 /// Which quantity a path carries (pbrt's and Mitsuba's `TransportMode`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -77,7 +77,7 @@ pub struct Bsdf {
 impl Bsdf {
     /// An empty BSDF (no lobes yet) seen from `wo`, with shading frame `frame` and geometric normal `ng`, both
     /// facing `wo`. Add lobes with [`Bsdf::push`], then call [`Bsdf::finish`].
-    #[inline]
+    #[inline(always)]
     pub fn new(frame: Frame, ng: Vec3A, wo: Vec3A) -> Self {
         Bsdf {
             frame,
@@ -125,8 +125,24 @@ impl Bsdf {
 
     /// Compute the lobe selection probabilities. `None` when nothing is reflected or transmitted and there is no
     /// ambient term.
-    #[inline]
+    #[inline(always)]
     pub fn finish(mut self) -> Option<Self> {
+        if self.prepare() { Some(self) } else { None }
+    }
+
+    /// [`Bsdf::finish`] in place: false when the BSDF is empty.
+    #[inline(always)]
+    pub fn prepare(&mut self) -> bool {
+        if self.len == 1 {
+            // The common case: one lobe, chosen always.
+            if self.lobes[0].selection_weight(self.wo_local) > 0.0 {
+                self.cdf[0] = 1.0;
+                self.smooth = !self.lobes[0].is_delta();
+                return true;
+            }
+            self.len = 0;
+            return self.ambient != Vec3::ZERO;
+        }
         let mut total = 0.0;
         let mut kept = 0;
         for i in 0..self.len {
@@ -140,14 +156,14 @@ impl Bsdf {
         }
         self.len = kept;
         if kept == 0 {
-            return (self.ambient != Vec3::ZERO).then_some(self);
+            return self.ambient != Vec3::ZERO;
         }
         for c in &mut self.cdf[..kept] {
             *c /= total;
         }
         self.cdf[kept - 1] = 1.0;
         self.smooth = self.lobes[..kept].iter().any(|l| !l.is_delta());
-        Some(self)
+        true
     }
 
     /// Shading normal facing `wo`.
@@ -222,11 +238,19 @@ impl Bsdf {
         if !self.smooth || !self.consistent(wi, wl) {
             return Vec3::ZERO;
         }
+        self.eval_local(wl, mode) * self.correction(wi, mode)
+    }
+
+    #[inline]
+    fn eval_local(&self, wl: Vec3A, mode: TransportMode) -> Vec3 {
+        if self.len == 1 {
+            return self.lobes[0].eval(self.wo_local, wl, mode);
+        }
         let mut f = Vec3::ZERO;
         for l in self.lobes() {
             f += l.eval(self.wo_local, wl, mode);
         }
-        f * self.correction(wi, mode)
+        f
     }
 
     /// Mixture pdf (solid angle) with which `sample` produces `wi` through a smooth lobe.
@@ -241,6 +265,9 @@ impl Bsdf {
 
     #[inline]
     fn pdf_local(&self, wl: Vec3A) -> f32 {
+        if self.len == 1 {
+            return self.lobes[0].pdf(self.wo_local, wl);
+        }
         let mut pdf = 0.0;
         for (i, l) in self.lobes().iter().enumerate() {
             if !l.is_delta() {
@@ -267,7 +294,7 @@ impl Bsdf {
         let uc = if p > 0.0 { ((u_lobe - lo) / p).clamp(0.0, 0.99999994) } else { 0.5 };
         let lobe = &self.lobes[i];
         let s = lobe.sample(self.wo_local, uc, u, mode)?;
-        let wi = self.frame.to_world(s.wi).normalize();
+        let wi = self.frame.to_world(s.wi);
         if !self.consistent(wi, s.wi) {
             return None;
         }
@@ -279,10 +306,7 @@ impl Bsdf {
         if pdf <= 0.0 || !pdf.is_finite() {
             return None;
         }
-        let mut f = Vec3::ZERO;
-        for l in self.lobes() {
-            f += l.eval(self.wo_local, s.wi, mode);
-        }
+        let f = self.eval_local(s.wi, mode);
         let weight = f * (s.wi.z.abs() * self.correction(wi, mode) / pdf);
         if !weight.is_finite() {
             return None;

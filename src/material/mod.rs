@@ -25,6 +25,7 @@ pub use resolve::bsdf;
 
 use crate::bsdf::MAX_LOBES;
 use crate::texture::{ColorParam, ScalarParam};
+
 use glam::Vec3;
 
 /// How a Phong-family material's terms are evaluated.
@@ -186,38 +187,71 @@ impl Material {
 }
 
 /// Check a material table: references in range and acyclic, normal/bump maps only at the top of a material (not
-/// inside a blend or another map), at most [`MAX_LOBES`] lobes per BSDF. Errors name the material.
+/// inside a blend or another map), at most [`MAX_LOBES`] lobes per BSDF once equal lobes are merged. Errors name
+/// the material.
 pub fn validate(materials: &[Material]) -> Result<(), String> {
-    fn lobes(ms: &[Material], id: u32, depth: usize, top: bool) -> Result<usize, String> {
-        let m = ms.get(id as usize).ok_or_else(|| format!("material index {id} out of range"))?;
-        if depth > ms.len() {
-            return Err(format!("material '{}' refers to itself (through blends or maps)", m.name));
-        }
-        Ok(match &m.kind {
-            MaterialKind::Phong(p) => {
-                [p.diffuse, p.specular, p.reflective, p.transparent].iter().filter(|c| !c.is_zero()).count()
-            }
-            MaterialKind::Conductor { .. } | MaterialKind::Dielectric { .. } | MaterialKind::Plastic { .. } => 1,
-            MaterialKind::Blend { a, b, .. } => lobes(ms, *a, depth + 1, false)? + lobes(ms, *b, depth + 1, false)?,
-            MaterialKind::NormalMap { base, .. } | MaterialKind::Bump { base, .. } => {
-                if !top {
-                    return Err(format!(
-                        "material '{}': a normal or bump map must wrap the outermost material (not be inside a \
-                         blend or another map)",
-                        m.name
-                    ));
-                }
-                lobes(ms, *base, depth + 1, false)?
-            }
-        })
-    }
     for (i, m) in materials.iter().enumerate() {
-        let n = lobes(materials, i as u32, 0, true)?;
-        if n > MAX_LOBES {
+        let mut keys = Vec::new();
+        lobe_keys(materials, i as u32, 0, true, &mut keys)?;
+        keys.sort();
+        keys.dedup();
+        if keys.len() > MAX_LOBES {
             return Err(format!(
-                "material '{}': its blends add up to {n} lobes, more than the {MAX_LOBES} one BSDF holds",
-                m.name
+                "material '{}': its blends add up to {} different lobes, more than the {MAX_LOBES} one BSDF holds",
+                m.name,
+                keys.len()
             ));
+        }
+    }
+    Ok(())
+}
+
+/// The lobes a material can produce, as keys: lobes with equal keys merge into one at run time (same kind and
+/// equal constant non-linear parameters; a textured exponent or roughness never merges).
+fn lobe_keys(ms: &[Material], id: u32, depth: usize, top: bool, out: &mut Vec<String>) -> Result<(), String> {
+    let m = ms.get(id as usize).ok_or_else(|| format!("material index {id} out of range"))?;
+    if depth > ms.len() {
+        return Err(format!("material '{}' refers to itself (through blends or maps)", m.name));
+    }
+    // Textured parameters never merge: a key no other lobe has.
+    let unique = format!("unique {id} {depth} {}", out.len());
+    let scalar = |p: &ScalarParam| p.constant().map_or_else(|| unique.clone(), |c| c.to_bits().to_string());
+    match &m.kind {
+        MaterialKind::Phong(p) => {
+            if !p.diffuse.is_zero() {
+                out.push("diffuse".into());
+            }
+            if !p.specular.is_zero() {
+                out.push(format!("specular {:?} {}", p.shading, scalar(&p.exponent)));
+            }
+            if !p.reflective.is_zero() {
+                out.push("mirror".into());
+            }
+            if !p.transparent.is_zero() {
+                out.push(format!("dielectric {:?} {}", p.shading, p.ior.to_bits()));
+            }
+        }
+        MaterialKind::Conductor { alpha, fresnel, .. } => {
+            let f = match fresnel {
+                ConductorSpec::Complex { eta, k } => format!("{eta:?} {k:?}"),
+                ConductorSpec::Schlick(c) => c.constant().map_or_else(|| unique.clone(), |c| format!("{c:?}")),
+            };
+            out.push(format!("conductor {} {f}", scalar(alpha)));
+        }
+        MaterialKind::Dielectric { .. } | MaterialKind::Plastic { .. } => out.push(unique.clone()),
+        MaterialKind::Blend { a, b, .. } => {
+            lobe_keys(ms, *a, depth + 1, false, out)?;
+            lobe_keys(ms, *b, depth + 1, false, out)?;
+        }
+        MaterialKind::NormalMap { base, .. } | MaterialKind::Bump { base, .. } => {
+            if !top {
+                return Err(format!(
+                    "material '{}': a normal or bump map must wrap the outermost material (not be inside a blend or \
+                     another map)",
+                    m.name
+                ));
+            }
+            lobe_keys(ms, *base, depth + 1, false, out)?;
         }
     }
     Ok(())

@@ -16,7 +16,7 @@ const MIN_ALPHA: f32 = 1e-3;
 /// The BSDF of the surface at `s` seen from `wo` (unit, pointing away from the surface). `two_sided` overrides
 /// every material's sidedness when given (6.837 `-shade_back`). `None` when the surface neither scatters nor has
 /// an ambient term towards `wo` (black, or the back of a one-sided material).
-#[inline]
+#[inline(always)]
 pub fn bsdf(
     materials: &[Material],
     textures: &TextureSet,
@@ -63,7 +63,7 @@ pub fn bsdf(
     let mut bsdf = Bsdf::new(Frame::from_normal(ns), ng, wo);
     let side = Side { front, two_sided };
     push_lobes(materials, textures, top, &at, side, 1.0, &mut bsdf);
-    bsdf.finish()
+    if bsdf.prepare() { Some(bsdf) } else { None }
 }
 
 #[derive(Clone, Copy)]
