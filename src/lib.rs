@@ -30,12 +30,14 @@ pub mod load;
 pub mod material;
 pub mod math;
 pub mod mesh;
+pub mod mesh_tangents;
 pub mod primitives;
 pub mod propagate;
 pub mod render;
 pub mod sampling;
 pub mod scene;
 pub mod settings;
+pub mod texture;
 
 #[path = "../plugins/mod.rs"]
 pub mod plugins;

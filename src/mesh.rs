@@ -34,28 +34,34 @@ impl MeshData {
         }
     }
 
-    /// The cube [-1,1]^3 as 12 triangles with outward normals (flat faces).
+    /// The cube [-1,1]^3 as 12 triangles with outward normals (flat faces). Each face carries the whole texture
+    /// upright as seen from outside: u grows to the right and v downwards (image rows) with +y up on the side
+    /// faces; the top face has v growing towards +z (its image top towards -z), the bottom face towards -z.
     pub fn unit_cube() -> Self {
         let mut positions = Vec::with_capacity(24);
+        let mut uvs = Vec::with_capacity(24);
         let mut indices = Vec::with_capacity(12);
-        // Each face: outward axis n, and two in-plane axes (u, v) with u x v = n.
+        // Each face: outward axis n and two in-plane axes (u, v) with u x v = n (the corners and triangles), then
+        // "right" and "up" as seen from outside (right x up = n) for the texture coordinates.
         let faces = [
-            (Vec3::X, Vec3::Y, Vec3::Z),
-            (-Vec3::X, Vec3::Z, Vec3::Y),
-            (Vec3::Y, Vec3::Z, Vec3::X),
-            (-Vec3::Y, Vec3::X, Vec3::Z),
-            (Vec3::Z, Vec3::X, Vec3::Y),
-            (-Vec3::Z, Vec3::Y, Vec3::X),
+            (Vec3::X, Vec3::Y, Vec3::Z, -Vec3::Z, Vec3::Y),
+            (-Vec3::X, Vec3::Z, Vec3::Y, Vec3::Z, Vec3::Y),
+            (Vec3::Y, Vec3::Z, Vec3::X, Vec3::X, -Vec3::Z),
+            (-Vec3::Y, Vec3::X, Vec3::Z, Vec3::X, Vec3::Z),
+            (Vec3::Z, Vec3::X, Vec3::Y, Vec3::X, Vec3::Y),
+            (-Vec3::Z, Vec3::Y, Vec3::X, -Vec3::X, Vec3::Y),
         ];
-        for (n, u, v) in faces {
+        for (n, u, v, right, up) in faces {
             let base = positions.len() as u32;
-            for (a, b) in [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)] {
-                positions.push(n + u * a + v * b);
+            for (a, b) in [(-1.0f32, -1.0f32), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)] {
+                let c = n + u * a + v * b;
+                positions.push(c);
+                uvs.push(Vec2::new((c.dot(right) + 1.0) * 0.5, (1.0 - c.dot(up)) * 0.5));
             }
             indices.push([base, base + 1, base + 2]);
             indices.push([base, base + 2, base + 3]);
         }
-        MeshData { name: "cube".into(), positions, normals: vec![], uvs: vec![], indices }
+        MeshData { name: "cube".into(), positions, normals: vec![], uvs, indices }
     }
 }
 

@@ -25,7 +25,14 @@ pub struct TriShading {
     pub uvs: [Vec2; 3],
     pub material: u32,
     pub light: u32,
+    /// Index into `Primitives::tri_tangents`, or [`NO_TANGENTS`] (only normal-mapped meshes have them).
+    pub tangents: u32,
+    /// dp/du and dp/dv (constant over the triangle), computed once when the triangle is built.
+    pub dpduv: [Vec3; 2],
 }
+
+/// Marks a triangle without vertex tangents.
+pub const NO_TANGENTS: u32 = u32::MAX;
 
 #[derive(Clone, Copy, Debug)]
 pub struct SphereGeom {
@@ -73,7 +80,12 @@ pub struct SurfaceHit {
     pub ng: Vec3A,
     /// Shading normal (unit), on the same side as `ng`.
     pub ns: Vec3A,
+    /// Surface parameterisation at the point (texture coordinates).
     pub uv: Vec2,
+    /// Partial derivatives of the position with respect to u and v (world space, not normalised): from the
+    /// triangle's uvs, the sphere's and the plane's parameterisations. Texturing and normal mapping use them.
+    pub dpdu: Vec3A,
+    pub dpdv: Vec3A,
     pub t: f32,
     pub prim: u32,
     pub material: u32,
@@ -84,6 +96,8 @@ pub struct SurfaceHit {
 pub struct Primitives {
     pub tris: Vec<[Vec3A; 3]>,
     pub tri_shading: Vec<TriShading>,
+    /// Per-vertex MikkTSpace tangents (xyz, bitangent sign in w) of the triangles of normal-mapped meshes.
+    pub tri_tangents: Vec<[glam::Vec4; 3]>,
     pub spheres: Vec<SphereGeom>,
     pub planes: Vec<PlaneGeom>,
     /// Bounds of the bounded primitives (triangles and spheres).
@@ -219,6 +233,26 @@ impl Primitives {
         self.planes.iter().any(|p| intersect_plane(p.normal, p.offset, ray).is_some())
     }
 
+    /// The interpolated MikkTSpace tangent and bitangent sign at a triangle hit of a normal-mapped mesh.
+    pub fn mesh_tangent(&self, s: &SurfaceHit) -> Option<(Vec3A, f32)> {
+        let sh = self.tri_shading.get(s.prim as usize)?;
+        if s.prim >= self.num_tris() || sh.tangents == NO_TANGENTS {
+            return None;
+        }
+        let t = &self.tri_tangents[sh.tangents as usize];
+        // Barycentrics of the hit point (the hit record keeps only the interpolated results).
+        let [p0, p1, p2] = self.tris[s.prim as usize];
+        let (e1, e2, d) = (p1 - p0, p2 - p0, s.p - p0);
+        let (d11, d12, d22) = (e1.dot(e1), e1.dot(e2), e2.dot(e2));
+        let (d1, d2) = (d.dot(e1), d.dot(e2));
+        let den = d11 * d22 - d12 * d12;
+        let (b1, b2) = if den > 0.0 { ((d22 * d1 - d12 * d2) / den, (d11 * d2 - d12 * d1) / den) } else { (0.0, 0.0) };
+        let b0 = 1.0 - b1 - b2;
+        let v = b0 * t[0] + b1 * t[1] + b2 * t[2];
+        let sign = if t[0].w < 0.0 { -1.0 } else { 1.0 };
+        Some((Vec3A::from(v.truncate()), sign))
+    }
+
     /// Surface data at a hit.
     pub fn surface(&self, ray: &Ray, hit: &Hit) -> SurfaceHit {
         let nt = self.num_tris();
@@ -245,13 +279,26 @@ impl Primitives {
             };
             let uv = b0 * sh.uvs[0] + hit.b1 * sh.uvs[1] + hit.b2 * sh.uvs[2];
             let p_err = interpolation_error([b0, hit.b1, hit.b2], &[p0, p1, p2]);
-            SurfaceHit { p, p_err, ng, ns, uv, t: hit.t, prim: hit.prim, material: sh.material, light: sh.light }
+            let (dpdu, dpdv) = (Vec3A::from(sh.dpduv[0]), Vec3A::from(sh.dpduv[1]));
+            SurfaceHit {
+                p,
+                p_err,
+                ng,
+                ns,
+                uv,
+                dpdu,
+                dpdv,
+                t: hit.t,
+                prim: hit.prim,
+                material: sh.material,
+                light: sh.light,
+            }
         } else if hit.prim < nt + ns_ {
             let s = &self.spheres[(hit.prim - nt) as usize];
-            let (p, p_err, n) = match &s.transform {
+            let (p, p_err, n, no) = match &s.transform {
                 None => {
                     let n = (ray.at(hit.t) - s.center).normalize();
-                    (s.center + n * s.radius, sphere_point_error(s.center, n * s.radius, None), n)
+                    (s.center + n * s.radius, sphere_point_error(s.center, n * s.radius, None), n, n)
                 }
                 Some(x) => {
                     let po = x.object_from_world.transform_point3a(ray.origin)
@@ -259,21 +306,42 @@ impl Primitives {
                     let no = (po - s.center).normalize();
                     let p = x.world_from_object.transform_point3a(s.center + no * s.radius);
                     let err = sphere_point_error(s.center, no * s.radius, Some(x));
-                    (p, err, (x.normal_to_world * no).normalize())
+                    (p, err, (x.normal_to_world * no).normalize(), no)
                 }
             };
-            let uv = sphere_uv(n);
-            SurfaceHit { p, p_err, ng: n, ns: n, uv, t: hit.t, prim: hit.prim, material: s.material, light: s.light }
+            // uv and derivatives from the object-space normal (the sphere's own parameterisation).
+            let (uv, mut dpdu, mut dpdv) = sphere_uv(no, s.radius);
+            if let Some(x) = &s.transform {
+                dpdu = x.world_from_object.transform_vector3a(dpdu);
+                dpdv = x.world_from_object.transform_vector3a(dpdv);
+            }
+            SurfaceHit {
+                p,
+                p_err,
+                ng: n,
+                ns: n,
+                uv,
+                dpdu,
+                dpdv,
+                t: hit.t,
+                prim: hit.prim,
+                material: s.material,
+                light: s.light,
+            }
         } else {
             let pl = &self.planes[(hit.prim - nt - ns_) as usize];
             let mut p = ray.at(hit.t);
             p -= (pl.normal.dot(p) - pl.offset) * pl.normal;
+            // u, v: coordinates along the plane's frame (world units, so textures tile once per unit).
+            let f = crate::math::Frame::from_normal(pl.normal);
             SurfaceHit {
                 p,
                 p_err: gamma(6) * (p.abs() + (pl.normal * pl.offset).abs()),
                 ng: pl.normal,
                 ns: pl.normal,
-                uv: Vec2::ZERO,
+                uv: Vec2::new(p.dot(f.s), p.dot(f.t)),
+                dpdu: f.s,
+                dpdv: f.t,
                 t: hit.t,
                 prim: hit.prim,
                 material: pl.material,
@@ -286,8 +354,9 @@ impl Primitives {
     pub fn build(
         world: &hecs::World,
         meshes: &MeshStore,
-        num_materials: u32,
+        materials: &[crate::material::Material],
     ) -> Result<(Self, Vec<(hecs::Entity, EntityPrims)>)> {
+        let num_materials = materials.len() as u32;
         let mut prims = Primitives::default();
         let mut emitters = Vec::new();
         let mut q =
@@ -329,19 +398,30 @@ impl Primitives {
                         return Err(PrismError::scene(name(), "triangle has zero area (or non-finite vertices)"));
                     }
                     let normals = n.map(|n| n.map(|q| transform_normal(&m, q.into())));
+                    let uvs = uv.unwrap_or([Vec2::ZERO, Vec2::X, Vec2::Y]);
+                    let dpduv = triangle_dpduv(v, uvs);
                     prims.tris.push(v);
                     prims.tri_shading.push(TriShading {
                         normals,
-                        uvs: uv.unwrap_or([Vec2::ZERO, Vec2::X, Vec2::Y]),
+                        uvs,
                         material,
                         light: light_slot,
+                        tangents: NO_TANGENTS,
+                        dpduv,
                     });
                 }
                 Shape::Mesh(h) => {
                     let mesh = meshes.get(*h);
                     let world_pos: Vec<Vec3A> = mesh.positions.iter().map(|&q| m.transform_point3a(q.into())).collect();
                     let world_n: Vec<Vec3A> = mesh.normals.iter().map(|&q| transform_normal(&m, q.into())).collect();
-                    for idx in &mesh.indices {
+                    // Tangents only for normal-mapped meshes: object-space MikkTSpace, carried to world space (a
+                    // mirroring transform flips the bitangent sign).
+                    let tangents = materials
+                        .get(material as usize)
+                        .is_some_and(|mat| mat.needs_tangents())
+                        .then(|| crate::mesh_tangents::mikktspace_tangents(mesh));
+                    let det_sign = m.matrix3.determinant().signum();
+                    for (f, idx) in mesh.indices.iter().enumerate() {
                         let v = idx.map(|i| world_pos[i as usize]);
                         if !is_valid_triangle(&v) {
                             prims.skipped_degenerate += 1;
@@ -353,8 +433,26 @@ impl Primitives {
                         } else {
                             idx.map(|i| mesh.uvs[i as usize])
                         };
+                        let tangents = match &tangents {
+                            Some(t) => {
+                                prims.tri_tangents.push(t[f].map(|c| {
+                                    let d = m.matrix3.mul_vec3a(c.truncate().into()).normalize_or_zero();
+                                    d.extend(c.w * det_sign)
+                                }));
+                                prims.tri_tangents.len() as u32 - 1
+                            }
+                            None => NO_TANGENTS,
+                        };
+                        let dpduv = triangle_dpduv(v, uvs);
                         prims.tris.push(v);
-                        prims.tri_shading.push(TriShading { normals, uvs, material, light: light_slot });
+                        prims.tri_shading.push(TriShading {
+                            normals,
+                            uvs,
+                            material,
+                            light: light_slot,
+                            tangents,
+                            dpduv,
+                        });
                     }
                 }
             }
@@ -411,11 +509,41 @@ fn make_sphere(m: &Affine3A, center: Vec3A, radius: f32, material: u32, light: u
     }
 }
 
-/// Spherical (u, v) in [0,1]^2 from a unit normal: u around +y, v from the south pole.
-fn sphere_uv(n: Vec3A) -> Vec2 {
-    let u = 0.5 + n.z.atan2(n.x) / (2.0 * std::f32::consts::PI);
-    let v = 0.5 + n.y.clamp(-1.0, 1.0).asin() / std::f32::consts::PI;
-    Vec2::new(u, v)
+/// Spherical (u, v) in [0,1]^2 from a unit object-space normal, and dp/du, dp/dv for radius `r`: u around +y,
+/// 0.5 straight ahead along +z and growing towards +x (an image wrapped around the sphere reads left to right
+/// seen from outside), v = theta / pi from the north pole (+y, the image's top row) down.
+fn sphere_uv(n: Vec3A, r: f32) -> (Vec2, Vec3A, Vec3A) {
+    use std::f32::consts::PI;
+    let u = 0.5 + n.x.atan2(n.z) / (2.0 * PI);
+    let v = n.y.clamp(-1.0, 1.0).acos() / PI;
+    let sin_t = (n.x * n.x + n.z * n.z).sqrt();
+    let dpdu = 2.0 * PI * r * Vec3A::new(n.z, 0.0, -n.x);
+    let dpdv = if sin_t > 1e-6 {
+        PI * r * Vec3A::new(n.x * n.y / sin_t, -sin_t, n.z * n.y / sin_t)
+    } else {
+        // At the poles dp/du vanishes; any tangent orthogonal to the normal will do for dp/dv.
+        PI * r * Vec3A::new(0.0, 0.0, if n.y > 0.0 { 1.0 } else { -1.0 })
+    };
+    (Vec2::new(u, v), dpdu, dpdv)
+}
+
+/// dp/du and dp/dv of a triangle from its vertex uvs (pbrt-v4's formulas); a frame around the normal when the uvs
+/// are degenerate.
+fn triangle_dpduv(p: [Vec3A; 3], uv: [Vec2; 3]) -> [Vec3; 2] {
+    let ng = (p[1] - p[0]).cross(p[2] - p[0]).normalize();
+    let (duv02, duv12) = (uv[0] - uv[2], uv[1] - uv[2]);
+    let (dp02, dp12) = (p[0] - p[2], p[1] - p[2]);
+    let det = duv02.x * duv12.y - duv02.y * duv12.x;
+    if det.abs() > 1e-12 {
+        let inv = 1.0 / det;
+        let dpdu = (duv12.y * dp02 - duv02.y * dp12) * inv;
+        let dpdv = (duv02.x * dp12 - duv12.x * dp02) * inv;
+        if dpdu.cross(dpdv).length_squared() > 0.0 && dpdu.is_finite() && dpdv.is_finite() {
+            return [dpdu.into(), dpdv.into()];
+        }
+    }
+    let f = crate::math::Frame::from_normal(ng);
+    [f.s.into(), f.t.into()]
 }
 
 /// World-space position of the local point `p` (used by lights).

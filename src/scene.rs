@@ -4,11 +4,13 @@
 
 use crate::accel::Accel;
 use crate::app::SceneGlobals;
+use crate::bsdf::Bsdf;
 use crate::camera::CameraRig;
 use crate::geometry::Ray;
 use crate::lights::LightSet;
 use crate::material::Material;
 use crate::primitives::{Hit, NO_LIGHT, Primitives, SurfaceHit};
+use crate::texture::TextureSet;
 use glam::{Vec3, Vec3A};
 
 pub struct Scene {
@@ -17,6 +19,7 @@ pub struct Scene {
     pub accel: Accel,
     pub lights: LightSet,
     pub materials: Vec<Material>,
+    pub textures: TextureSet,
     pub globals: SceneGlobals,
 }
 
@@ -47,6 +50,20 @@ impl Scene {
     #[inline]
     pub fn material(&self, id: u32) -> &Material {
         &self.materials[id as usize]
+    }
+
+    /// The BSDF of the surface at `s` seen from `wo` (unit, pointing away from the surface): the material
+    /// resolved at the hit (textures, blends, normal and bump maps). `None` when the surface reflects nothing
+    /// towards `wo` and has no ambient term (a black material, the back of a one-sided one).
+    #[inline]
+    pub fn bsdf(&self, s: &SurfaceHit, wo: Vec3A) -> Option<Bsdf> {
+        crate::material::bsdf(&self.materials, &self.textures, &self.prims, s, wo, None)
+    }
+
+    /// [`Scene::bsdf`] with every material's sidedness overridden when `two_sided` is given (6.837 `-shade_back`).
+    #[inline]
+    pub fn bsdf_sided(&self, s: &SurfaceHit, wo: Vec3A, two_sided: Option<bool>) -> Option<Bsdf> {
+        crate::material::bsdf(&self.materials, &self.textures, &self.prims, s, wo, two_sided)
     }
 
     /// Radiance arriving along a ray that leaves the scene in unit direction `dir`: the environment light's, or the

@@ -2,7 +2,8 @@
 //! scene; the course's conventions come out as the course's formulas (diffuse `kd c cos`, ambient `ka kd`,
 //! Blinn-Phong specular, point-light attenuation, refraction without Fresnel, flat colours without lights,
 //! orthographic rays from behind the camera); transforms and `MaterialIndex` compose as in the course parser;
-//! malformed files give one-line `file:line:col` errors, never a panic; course command lines run.
+//! malformed files give one-line `file:line:col` errors, never a panic; course command lines run. Assignments 6
+//! and 7 (solid textures, TGA output): `tests/mit6837_solid.rs`.
 
 use crate::common::{app_from_file, data, prism, render_file, scratch};
 use glam::{Vec3, Vec3A};
@@ -234,9 +235,9 @@ fn transforms_nest_and_material_index_applies_in_file_order() {
     let t0 = s.prims.tris[0];
     assert!(close(t0[0], [1.0, 2.0, 3.0]) && close(t0[1], [1.0, 4.0, 3.0]) && close(t0[2], [-1.0, 2.0, 3.0]), "{t0:?}");
     // The triangle after the nested group still has material 2 (file order, not tree scope).
-    let mat = |i: usize| s.materials[s.prims.tri_shading[i].material as usize].diffuse;
-    assert_eq!(mat(0), Vec3::Z);
-    assert_eq!(mat(1), Vec3::Z);
+    let mat = |i: usize| s.materials[s.prims.tri_shading[i].material as usize].phong_params().unwrap().diffuse;
+    assert_eq!(mat(0), prism::texture::ColorParam::Const(Vec3::Z));
+    assert_eq!(mat(1), prism::texture::ColorParam::Const(Vec3::Z));
     // Matrix is pre-multiplied as in the course: M T(5,0,0) S(3): (1,0,0) -> (3,0,0) -> (8,0,0) -> (18,20,30).
     let t2 = s.prims.tris[2];
     assert!(close(t2[0], [15.0, 20.0, 30.0]) && close(t2[1], [18.0, 20.0, 30.0]), "{t2:?}");
@@ -339,8 +340,10 @@ fn course_command_lines_of_assignment_5_run_through_prism_raytracer() {
         let o = prism(&refs);
         assert!(o.status.success(), "{line}: {}", String::from_utf8_lossy(&o.stderr));
         if let Some(i) = args.iter().position(|a| a == "-output") {
-            let png = PathBuf::from(&args[i + 1]).with_extension("png");
-            assert!(png.is_file(), "{line}: {} not written", png.display());
+            // Written where the course asks, in the course's format.
+            let tga = PathBuf::from(&args[i + 1]);
+            let bytes = std::fs::read(&tga).unwrap_or_else(|_| panic!("{line}: {} not written", tga.display()));
+            assert_eq!(bytes.len(), 18 + 32 * 32 * 3, "{line}: a 32x32 24-bit TGA");
         }
         ran += 1;
     }

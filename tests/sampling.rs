@@ -360,34 +360,13 @@ fn rgss_puts_four_samples_in_distinct_rows_and_columns() {
     assert_eq!(ys, vec![0.0, 1.0, 2.0, 3.0]);
 }
 
-/// A surface point at the origin with normal +z.
-fn flat_hit() -> prism::primitives::SurfaceHit {
-    prism::primitives::SurfaceHit {
-        p: Vec3A::ZERO,
-        p_err: Vec3A::ZERO,
-        ng: Vec3A::Z,
-        ns: Vec3A::Z,
-        uv: Vec2::ZERO,
-        t: 1.0,
-        prim: 0,
-        material: 0,
-        light: prism::primitives::NO_LIGHT,
-    }
-}
-
 #[test]
 fn bsdf_sampling_of_a_diffuse_plus_phong_mixture_follows_its_pdf() {
-    use prism::bsdf::Bsdf;
-    use prism::material::Material;
-    let m = Material {
-        diffuse: glam::Vec3::splat(0.3),
-        specular: glam::Vec3::splat(0.5),
-        exponent: 20.0,
-        ..Material::black("mix")
-    };
-    let hit = flat_hit();
+    use prism::bsdf::{Bsdf, Lobe};
     let wo = Vec3A::new(0.64, 0.0, 0.77).normalize();
-    let bsdf = Bsdf::new(&m, &hit, wo).unwrap();
+    let lobes =
+        [Lobe::Diffuse { albedo: glam::Vec3::splat(0.3) }, Lobe::Phong { ks: glam::Vec3::splat(0.5), exponent: 20.0 }];
+    let bsdf = Bsdf::from_lobes(Vec3A::Z, wo, &lobes).unwrap();
     let mut rng = Rng::new(8, 8);
     let mut sample = |u: Vec2| {
         let s = bsdf.sample(rng.next_f32(), u)?;
@@ -403,14 +382,12 @@ fn bsdf_sampling_of_a_diffuse_plus_phong_mixture_follows_its_pdf() {
 
 #[test]
 fn dielectric_sampling_reflects_with_the_fresnel_probability() {
-    use prism::bsdf::Bsdf;
-    use prism::material::Material;
+    use prism::bsdf::{Bsdf, Lobe};
     use prism::math::fresnel_dielectric;
-    let m = Material { transparent: glam::Vec3::ONE, ior: 1.5, ..Material::black("glass") };
-    let hit = flat_hit();
+    let glass = Lobe::Dielectric { r: glam::Vec3::ONE, t: glam::Vec3::ONE, eta: 1.5 };
     for cos in [1.0f32, 0.5, 0.1] {
         let wo = Vec3A::new((1.0 - cos * cos).sqrt(), 0.0, cos);
-        let bsdf = Bsdf::new(&m, &hit, wo).unwrap();
+        let bsdf = Bsdf::from_lobes(Vec3A::Z, wo, &[glass]).unwrap();
         let mut rng = Rng::new(2, cos.to_bits() as u64);
         let n = 100_000;
         let mut reflected = 0;

@@ -5,6 +5,7 @@ mod common;
 
 mod accel;
 mod analytic;
+mod appearance;
 mod converge;
 mod debug;
 mod determinism;
@@ -13,7 +14,9 @@ mod envmap;
 mod geometry;
 mod io;
 mod lights;
+mod microfacet;
 mod mit6837;
+mod mit6837_solid;
 mod plugin;
 mod ppm;
 mod resume;

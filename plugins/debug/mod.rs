@@ -13,7 +13,8 @@
 //! - `depth`: `(far - t) / (far - near)`, white near, black far (the 6.837 `-depth near far` view); `near` and
 //!   `far` default to the nearest and farthest distance of the scene's bounds from the camera.
 //!
-//! The colours are written so a PNG shows them as listed (sRGB values). One camera ray per sample through the
+//! The colours are written so a PNG shows them as listed (sRGB values); with `raw: true` the values themselves are
+//! written (a linear `.tga` then shows them as listed, as the 6.837 course's images). One camera ray per sample through the
 //! pixel pattern; `heat` traces one ray through each pixel centre and replaces the image each pass.
 
 use crate::app::{App, Plugin};
@@ -63,6 +64,9 @@ pub struct DebugParams {
     pub near: Option<f32>,
     /// `depth`: distance shown black.
     pub far: Option<f32>,
+    /// Write the shown values themselves into the film (for linear outputs such as the 6.837 `.tga`), instead of
+    /// the linear radiance a PNG shows as those values.
+    pub raw: bool,
 }
 
 pub struct DebugPlugin;
@@ -167,18 +171,28 @@ impl PixelIntegrator for DebugView {
         match self.params.mode {
             DebugMode::GridCells => self.grid_cell(scene, &ray),
             DebugMode::Normals => scene.trace(&ray).map_or(Vec3::ZERO, |s| {
-                let n = Vec3::from(s.ns);
-                srgb(if self.params.signed { 0.5 * (n + 1.0) } else { n.abs() })
+                // The BSDF's shading normal (normal and bump maps included), on the side of the surface's normal.
+                let n = scene.bsdf(&s, -ray.dir).map_or(s.ns, |b| {
+                    let n = b.normal();
+                    if n.dot(s.ng) < 0.0 { -n } else { n }
+                });
+                let n = Vec3::from(n);
+                self.shown(if self.params.signed { 0.5 * (n + 1.0) } else { n.abs() })
             }),
-            DebugMode::Depth => scene
-                .intersect(&ray)
-                .map_or(Vec3::ZERO, |h| srgb(Vec3::splat(((self.far - h.t) / (self.far - self.near)).clamp(0.0, 1.0)))),
+            DebugMode::Depth => scene.intersect(&ray).map_or(Vec3::ZERO, |h| {
+                self.shown(Vec3::splat(((self.far - h.t) / (self.far - self.near)).clamp(0.0, 1.0)))
+            }),
             DebugMode::Heat => Vec3::ZERO,
         }
     }
 }
 
 impl DebugView {
+    /// The film value that an output shows as `c`: sRGB-decoded for PNG, or `c` itself with `raw`.
+    fn shown(&self, c: Vec3) -> Vec3 {
+        if self.params.raw { c } else { srgb(c) }
+    }
+
     fn grid_cell(&self, scene: &Scene, ray: &Ray) -> Vec3 {
         let Some(grid) = scene.accel.as_grid() else {
             return Vec3::ZERO;
@@ -205,7 +219,7 @@ impl DebugView {
             let f = ((p[a] - b.min[a]) / size[a].max(f32::MIN_POSITIVE)).clamp(0.0, 1.0);
             edge |= !(0.04..=0.96).contains(&f);
         }
-        srgb(base * shade * if edge { 0.45 } else { 1.0 })
+        self.shown(base * shade * if edge { 0.45 } else { 1.0 })
     }
 }
 
@@ -260,7 +274,7 @@ impl Integrator for HeatMap {
                 scene.accel.stats().kind
             );
         }
-        let image = counts.iter().map(|&c| srgb(ramp(c / max))).collect();
+        let image = counts.iter().map(|&c| if self.params.raw { ramp(c / max) } else { srgb(ramp(c / max)) }).collect();
         PassOutput::Estimate { image, complete }
     }
 }

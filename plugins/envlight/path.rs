@@ -59,8 +59,8 @@ impl PathTracer {
             return Vec3::ZERO;
         };
         let f = bsdf.eval(ls.wi);
-        let cos = ls.wi.dot(n);
-        if f == Vec3::ZERO || cos <= 0.0 || scene.occluded(&s.spawn_to(&ls)) {
+        let cos = ls.wi.dot(n).abs();
+        if f == Vec3::ZERO || scene.occluded(&s.spawn_to(&ls)) {
             return Vec3::ZERO;
         }
         let w = if ls.delta || !self.params.mis { 1.0 } else { power_heuristic(ls.pdf, bsdf.pdf(ls.wi)) };
@@ -105,7 +105,7 @@ impl PixelIntegrator for PathTracer {
             if max_depth >= 0 && depth + 1 >= max_depth {
                 break;
             }
-            let Some(bsdf) = Bsdf::new(scene.material(s.material), &s, wo) else { break };
+            let Some(bsdf) = scene.bsdf(&s, wo) else { break };
             let (u_choice, u_light) = (sampler.next_1d(), sampler.next_2d());
             let (u_lobe, u_bsdf) = (sampler.next_1d(), sampler.next_2d());
             let u_rr = sampler.next_1d();

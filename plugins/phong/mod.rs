@@ -18,15 +18,14 @@
 //! below it) and `-shade_back` (`Some(b)` shades back faces or not for every material, overriding `two_sided`).
 
 use crate::app::{App, Plugin};
+use crate::bsdf::Bsdf;
 use crate::error::{PrismError, Result};
 use crate::geometry::Ray;
 use crate::integrator::{PerPixel, PixelIntegrator};
-use crate::material::{Material, Shading};
-use crate::math::{fresnel_dielectric, reflect, refract};
 use crate::primitives::SurfaceHit;
 use crate::sampling::{Rng, Sampler, stratified_2d};
 use crate::scene::Scene;
-use glam::{Vec3, Vec3A};
+use glam::Vec3;
 use serde::Deserialize;
 
 #[derive(Deserialize, Debug, Clone, Copy)]
@@ -92,74 +91,34 @@ impl Phong {
             return scene.escaped(ray.dir);
         };
         let wo = -ray.dir;
-        let m = scene.material(s.material);
         let mut l = scene.emitted(&s, wo);
-        let front = wo.dot(s.ng) >= 0.0;
-        // Normals facing the viewer.
-        let (ng, ns) = if front { (s.ng, s.ns) } else { (-s.ng, -s.ns) };
-        let ns = if ns.dot(wo) > 0.0 { ns } else { ng };
-        let shaded = front || self.params.shade_back.unwrap_or(m.two_sided);
+        // The material resolved at the hit; `shade_back` overrides every material's sidedness.
+        let Some(bsdf) = scene.bsdf_sided(&s, wo, self.params.shade_back) else {
+            return l;
+        };
         // Branch weights below `min_weight` are not followed (6.837 `-weight`).
         let follow = |filter: Vec3| weight * filter.max_element() >= self.params.min_weight;
-        if shaded {
-            l += m.ambient * scene.globals.ambient;
-            if m.has_smooth_lobe() {
-                l += self.direct(scene, &s, m, wo, ng, ns, rng);
-            }
+        l += bsdf.ambient() * scene.globals.ambient;
+        if bsdf.has_smooth() {
+            l += self.direct(scene, &s, &bsdf, rng);
         }
-        if depth < self.params.max_depth && m.has_delta_lobe() {
-            if shaded && m.reflective != Vec3::ZERO && follow(m.reflective) {
-                let r = reflect(wo, ns);
-                if r.dot(ng) > 0.0 {
-                    let w = weight * m.reflective.max_element();
-                    l += m.reflective * self.trace(scene, &s.spawn(r), rng, depth + 1, w);
+        if depth < self.params.max_depth && bsdf.has_delta() {
+            // Mirror, Fresnel reflection and refraction (1/eta^2 included), the course's refraction: each branch
+            // followed deterministically.
+            bsdf.delta_branches(|b| {
+                if follow(b.filter) {
+                    let w = weight * b.filter.max_element();
+                    l += b.weight * self.trace(scene, &s.spawn(b.wi), rng, depth + 1, w);
                 }
-            }
-            if m.transparent != Vec3::ZERO && m.shading == Shading::Mit6837 {
-                // The course: the refracted radiance times the transparent colour, no Fresnel, nothing under
-                // total internal reflection.
-                let eta = if front { m.ior } else { 1.0 / m.ior };
-                if follow(m.transparent)
-                    && let Some(t) = refract(wo, ns, eta)
-                {
-                    let w = weight * m.transparent.max_element();
-                    l += m.transparent * self.trace(scene, &s.spawn(t.normalize()), rng, depth + 1, w);
-                }
-            } else if m.transparent != Vec3::ZERO && follow(m.transparent) {
-                let w = weight * m.transparent.max_element();
-                // Entering when the ray comes from the side the geometric normal points to.
-                let eta = if front { m.ior } else { 1.0 / m.ior };
-                let cos_i = wo.dot(ns).max(0.0);
-                let f = fresnel_dielectric(cos_i, eta);
-                if f > 0.0 {
-                    let r = reflect(wo, ns);
-                    l += m.transparent * f * self.trace(scene, &s.spawn(r), rng, depth + 1, w);
-                }
-                if f < 1.0
-                    && let Some(t) = refract(wo, ns, eta)
-                {
-                    // Radiance is scaled by 1/eta^2 across the interface (it cancels for closed objects).
-                    let scale = (1.0 - f) / (eta * eta);
-                    l += m.transparent * scale * self.trace(scene, &s.spawn(t.normalize()), rng, depth + 1, w);
-                }
-            }
+            });
         }
         l
     }
 
     /// Direct lighting from every light, `light_samples` stratified samples for each area light.
-    #[allow(clippy::too_many_arguments)]
-    fn direct(
-        &self,
-        scene: &Scene,
-        s: &SurfaceHit,
-        m: &Material,
-        wo: Vec3A,
-        ng: Vec3A,
-        ns: Vec3A,
-        rng: &mut Rng,
-    ) -> Vec3 {
+    fn direct(&self, scene: &Scene, s: &SurfaceHit, bsdf: &Bsdf, rng: &mut Rng) -> Vec3 {
         let mut sum = Vec3::ZERO;
+        let ns = bsdf.normal();
         for i in 0..scene.lights.len() {
             let n = if scene.lights.is_delta(i) { 1 } else { self.params.light_samples };
             let key = rng.next_u32();
@@ -169,18 +128,15 @@ impl Phong {
                 let Some(ls) = scene.lights.sample_li(i, &scene.prims, s.p, u) else {
                     continue;
                 };
-                let cos = ls.wi.dot(ns);
-                if cos <= 0.0 || ls.wi.dot(ng) <= 0.0 {
-                    continue;
-                }
-                let f = m.eval_smooth(wo, ls.wi, ns);
+                // The BSDF decides which side it scatters to (reflection above the surface, transmission below).
+                let f = bsdf.eval(ls.wi);
                 if f == Vec3::ZERO {
                     continue;
                 }
                 if self.params.shadows && scene.occluded(&s.spawn_to(&ls)) {
                     continue;
                 }
-                acc += f * ls.li * (cos / ls.pdf);
+                acc += f * ls.li * (ls.wi.dot(ns).abs() / ls.pdf);
             }
             sum += acc / n as f32;
         }

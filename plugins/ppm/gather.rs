@@ -13,7 +13,6 @@
 
 use super::photons::Photon;
 use super::visible::{EyeResult, VisiblePoint};
-use crate::bsdf::Bsdf;
 use crate::film::FixedRgb;
 use crate::scene::Scene;
 use glam::{DVec3, Vec3, Vec3A};
@@ -94,7 +93,7 @@ pub fn gather(
     max_segments: u32,
     query: impl FnOnce(Vec3A, f32, &mut dyn FnMut(&Photon)),
 ) -> (DVec3, u32) {
-    let Some(bsdf) = Bsdf::new(scene.material(vp.hit.material), &vp.hit, vp.wo) else {
+    let Some(bsdf) = scene.bsdf(&vp.hit, vp.wo) else {
         return (DVec3::ZERO, 0);
     };
     let ng = bsdf.geometric_normal();

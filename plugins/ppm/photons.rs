@@ -9,7 +9,7 @@
 //! photons, then (lobe, direction, roulette) per bounce. Photons are traced in fixed chunks in parallel and stored
 //! in chunk order, so the photon array is the same whatever the thread count.
 
-use crate::bsdf::Bsdf;
+use crate::bsdf::TransportMode;
 use crate::lights::LightSampler;
 use crate::math::luminance;
 use crate::sampling::{Rng, Sampler, SamplerKind, hash_u64};
@@ -85,13 +85,13 @@ impl PhotonPass<'_> {
         for depth in 0..self.max_vertices {
             let Some(s) = scene.trace(&ray) else { break };
             let wo = -ray.dir;
-            let Some(bsdf) = Bsdf::new(scene.material(s.material), &s, wo) else { break };
+            let Some(bsdf) = scene.bsdf(&s, wo) else { break };
             if depth >= self.first_deposit && bsdf.has_smooth() {
                 let ng = if s.ng.dot(wo) >= 0.0 { s.ng } else { -s.ng };
                 out.push(Photon { p: s.p, wi: wo, ng, beta, depth });
             }
             let (u_lobe, u_bsdf, u_rr) = (sampler.next_1d(), sampler.next_2d(), sampler.next_1d());
-            let Some(bs) = bsdf.sample_importance(u_lobe, u_bsdf) else { break };
+            let Some(bs) = bsdf.sample_mode(u_lobe, u_bsdf, TransportMode::Importance) else { break };
             let next = beta * bs.weight;
             // Russian roulette on the drop in throughput (a mirror keeps a photon alive, a dark wall ends most).
             let (l0, l1) = (luminance(beta), luminance(next));

@@ -72,11 +72,11 @@ impl EyePass<'_> {
             length += hit.t;
             let wo = -ray.dir;
             out.direct += beta * scene.emitted(&hit, wo);
-            let Some(bsdf) = Bsdf::new(scene.material(hit.material), &hit, wo) else { break };
+            let Some(bsdf) = scene.bsdf(&hit, wo) else { break };
             let (u_lobe, u_bsdf) = (sampler.next_1d(), sampler.next_2d());
             let (u_choice, u_light) = (sampler.next_1d(), sampler.next_2d());
             let p_smooth = bsdf.smooth_probability();
-            if p_smooth > 0.0 && u_lobe < p_smooth {
+            if p_smooth > 0.0 && !bsdf.picks_delta(u_lobe) {
                 let vp_beta = beta / p_smooth;
                 // Direct light adds a segment; a visible point needs room for a photon's two segments at least.
                 if self.direct_lighting && depth + 2 <= self.max_segments {
@@ -105,9 +105,10 @@ impl EyePass<'_> {
         let Some(ls) = self.lights.sample_li(&scene.lights, &scene.prims, hit.p, n, u_choice, u_light) else {
             return Vec3::ZERO;
         };
+        // The BSDF is zero on the side it does not scatter to (transmissive lobes scatter to both).
         let f = bsdf.eval(ls.wi);
-        let cos = ls.wi.dot(n);
-        if f == Vec3::ZERO || cos <= 0.0 || ls.pdf <= 0.0 || scene.occluded(&hit.spawn_to(&ls)) {
+        let cos = ls.wi.dot(n).abs();
+        if f == Vec3::ZERO || ls.pdf <= 0.0 || scene.occluded(&hit.spawn_to(&ls)) {
             return Vec3::ZERO;
         }
         f * ls.li * (cos / ls.pdf)

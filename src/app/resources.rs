@@ -82,6 +82,8 @@ pub struct Resources {
     pub settings: RenderSettings,
     pub globals: SceneGlobals,
     pub materials: Vec<Material>,
+    /// Textures the materials refer to (images shared through `Arc`).
+    pub textures: crate::texture::TextureSet,
     pub meshes: MeshStore,
     /// The flattened scene integrators see (built in BuildAccel, lights added in Prepare).
     pub scene: Option<Scene>,

@@ -164,6 +164,7 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
             accel: reference,
             lights: Default::default(),
             materials: vec![],
+            textures: Default::default(),
             globals: scene.globals,
         };
         let (bounce, shadow) = secondary_rays(&scene_for_rays, &camera, 1);

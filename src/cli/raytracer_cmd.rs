@@ -1,13 +1,13 @@
 //! `prism raytracer -input scene.txt -size 200 200 -output out.tga ...`: a 6.837 course command line (assignments
-//! 1-5), translated option by option into `prism render` runs. The mapping (also in the README):
+//! 1-7), translated option by option into `prism render` runs. The mapping (also in the README):
 //!
 //! | course option | Prism |
 //! |---|---|
 //! | `-input F` | `SCENE` (`F`, a 6.837 `.txt`) |
 //! | `-size W H` | `--size WxH` |
-//! | `-output F` | `-o F` (`.tga` written as `.png`) |
-//! | `-depth NEAR FAR F` | a second render `--integrator 'debug(mode: depth, near: NEAR, far: FAR)' -o F` |
-//! | `-normals F` | a render `--integrator 'debug(mode: normals)' -o F` |
+//! | `-output F` | `-o F`: a `.tga` is written at exactly that path, linear values quantised as the course does (`int(255 c)` clamped, no sRGB) |
+//! | `-depth NEAR FAR F` | a second render `--integrator 'debug(mode: depth, near: NEAR, far: FAR)' -o F` (`raw: true` for `.tga`) |
+//! | `-normals F` | a render `--integrator 'debug(mode: normals)' -o F` (`raw: true` for `.tga`) |
 //! | `-shadows` | `phong(shadows: true)` (off without it) |
 //! | `-bounces N` | `phong(max_depth: N)` (0 without it) |
 //! | `-weight W` | `phong(min_weight: W)` |
@@ -103,12 +103,10 @@ pub fn parse_course_options(args: &[String]) -> Result<CourseOptions, PrismError
     Ok(o)
 }
 
-/// `.tga` outputs are written as `.png`.
-fn image_path(p: &Path) -> PathBuf {
-    match p.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase).as_deref() {
-        Some("png" | "exr") => p.to_path_buf(),
-        _ => p.with_extension("png"),
-    }
+/// True for the course's TGA outputs, written with linear values (`int(255 c)`), so the debug views write their
+/// values raw.
+fn is_tga(p: &Path) -> bool {
+    p.extension().and_then(|e| e.to_str()).is_some_and(|e| e.eq_ignore_ascii_case("tga"))
 }
 
 pub fn run(args: RaytracerArgs) -> anyhow::Result<()> {
@@ -116,7 +114,7 @@ pub fn run(args: RaytracerArgs) -> anyhow::Result<()> {
     let input = o.input.clone().ok_or_else(|| PrismError::invalid("-input SCENE.txt is required"))?;
     let base = |output: PathBuf, integrator: String| RenderArgs {
         scene: input.clone(),
-        output: vec![image_path(&output)],
+        output: vec![output],
         integrator: Some(integrator),
         accel: None,
         grid: o.grid.map(|g| g.to_vec()),
@@ -153,7 +151,7 @@ pub fn run(args: RaytracerArgs) -> anyhow::Result<()> {
     }
     if let Some(out) = &o.output {
         let integrator = if o.visualize_grid {
-            "debug(mode: grid_cells)".to_string()
+            format!("debug(mode: grid_cells, raw: {})", is_tga(out))
         } else {
             format!(
                 "phong(max_depth: {}, shadows: {}, min_weight: {:?}, shade_back: {})",
@@ -164,10 +162,11 @@ pub fn run(args: RaytracerArgs) -> anyhow::Result<()> {
     }
     if let Some((near, far, out)) = &o.depth {
         let back = mit6837::convert_file(&input, Path::new("."))?.eye_back;
-        render(base(out.clone(), format!("debug(mode: depth, near: {:?}, far: {:?})", near + back, far + back)))?;
+        let (near, far, raw) = (near + back, far + back, is_tga(out));
+        render(base(out.clone(), format!("debug(mode: depth, near: {near:?}, far: {far:?}, raw: {raw})")))?;
     }
     if let Some(out) = &o.normals {
-        render(base(out.clone(), "debug(mode: normals)".into()))?;
+        render(base(out.clone(), format!("debug(mode: normals, raw: {})", is_tga(out))))?;
     }
     Ok(())
 }

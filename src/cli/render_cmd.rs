@@ -17,7 +17,7 @@ use std::time::{Duration, Instant};
 pub struct RenderArgs {
     /// Scene file: .ron (Prism scene) or .obj (mesh with an automatic camera and headlight).
     pub scene: PathBuf,
-    /// Output image(s); .png (sRGB) or .exr (linear). Repeat for several. Default: SCENE-NAME.png.
+    /// Output image(s); .png (sRGB), .exr (linear) or .tga (the 6.837 course's linear 8-bit). Repeat for several. Default: SCENE-NAME.png.
     #[arg(short, long = "output")]
     pub output: Vec<PathBuf>,
     /// Integrator plugin, `name` or `name(param: value, ...)`, e.g. `envlight(max_depth: 2)` or
@@ -171,9 +171,9 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
     };
     for o in &outputs {
         let ext = o.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
-        if ext != "png" && ext != "exr" && !crate::io::is_film_path(o) {
+        if ext != "png" && ext != "exr" && ext != "tga" && !crate::io::is_film_path(o) {
             return Err(PrismError::invalid(format!(
-                "{}: unsupported output format (use .png, .exr or .prism-film)",
+                "{}: unsupported output format (use .png, .exr, .tga or .prism-film)",
                 o.display()
             ))
             .into());

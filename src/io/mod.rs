@@ -70,14 +70,45 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
     finish(&tmp, path)
 }
 
-/// Write `img` to `path`; the format follows the extension (`.exr` linear, `.png` sRGB after `exposure` stops).
+/// Write `img` to `path`; the format follows the extension (`.exr` linear, `.png` sRGB after `exposure` stops,
+/// `.tga` the 6.837 course's linear 8-bit values).
 pub fn write_image(path: &Path, img: &Image, exposure: f32) -> Result<()> {
     let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
     match ext.as_str() {
         "exr" => write_exr(path, img),
         "png" => write_png(path, img, exposure),
-        _ => Err(PrismError::invalid(format!("{}: unsupported output format (use .png or .exr)", path.display()))),
+        "tga" => write_tga(path, img),
+        _ => {
+            Err(PrismError::invalid(format!("{}: unsupported output format (use .png, .exr or .tga)", path.display())))
+        }
     }
+}
+
+/// The 6.837 course's quantisation of a linear value: `int(255 c)` clamped to [0, 255] (no sRGB, no rounding).
+#[inline]
+pub fn course_byte(c: f32) -> u8 {
+    if c.is_nan() { 0 } else { (255.0 * c).clamp(0.0, 255.0) as u8 }
+}
+
+/// Uncompressed 24-bit true-colour TGA (type 2, top-left origin) with the course's linear quantisation
+/// [`course_byte`], as the 6.837 ray tracer writes its images.
+pub fn write_tga(path: &Path, img: &Image) -> Result<()> {
+    let (w, h) = (img.width, img.height);
+    if w > u16::MAX as u32 || h > u16::MAX as u32 {
+        return Err(PrismError::invalid(format!("{}: TGA images are at most 65535 pixels wide", path.display())));
+    }
+    let mut buf = Vec::with_capacity(18 + img.pixels.len() * 3);
+    buf.extend_from_slice(&[0, 0, 2, 0, 0, 0, 0, 0, 0, 0, 0, 0]);
+    buf.extend_from_slice(&(w as u16).to_le_bytes());
+    buf.extend_from_slice(&(h as u16).to_le_bytes());
+    // 24 bits per pixel; descriptor bit 5: rows stored from the top.
+    buf.extend_from_slice(&[24, 0x20]);
+    for p in &img.pixels {
+        buf.extend_from_slice(&[course_byte(p.z), course_byte(p.y), course_byte(p.x)]);
+    }
+    let tmp = temp_path(path);
+    std::fs::write(&tmp, &buf).map_err(|e| PrismError::io(path, e))?;
+    finish(&tmp, path)
 }
 
 pub fn write_exr(path: &Path, img: &Image) -> Result<()> {

@@ -1,6 +1,7 @@
 //! The RON scene schema: what a user writes. Every struct denies unknown fields and defaults whatever has a
 //! sensible default, so a minimal scene is a few lines. See README "Scene format" for the reference.
 
+pub use super::material_desc::{ColorDesc, MaterialDesc, ScalarDesc, ScaleDesc, TextureDesc, TextureRef};
 use crate::sampling::{PixelFilter, PixelPattern, SamplerKind};
 use ron::value::RawValue;
 use serde::Deserialize;
@@ -9,15 +10,6 @@ pub type V3 = [f32; 3];
 
 fn one3() -> V3 {
     [1.0; 3]
-}
-fn half3() -> V3 {
-    [0.5; 3]
-}
-fn yes() -> bool {
-    true
-}
-fn ior_glass() -> f32 {
-    1.5
 }
 fn unit() -> f32 {
     1.0
@@ -61,6 +53,9 @@ pub struct SceneDesc<'a> {
     /// Ambient radiance, reflected by materials' `ambient` coefficient (Phong integrator; 0 = physically based).
     #[serde(default)]
     pub ambient: V3,
+    /// Named textures the materials refer to.
+    #[serde(default)]
+    pub textures: std::collections::BTreeMap<String, TextureDesc>,
     #[serde(default)]
     pub materials: std::collections::BTreeMap<String, MaterialDesc>,
     #[serde(default)]
@@ -138,74 +133,6 @@ pub struct CameraDesc {
     /// Image width and height in pixels.
     #[serde(default = "default_size")]
     pub size: (u32, u32),
-}
-
-#[derive(Deserialize, Debug, Clone)]
-#[serde(deny_unknown_fields)]
-pub enum MaterialDesc {
-    /// Ideal diffuse reflector; `albedo` in [0,1].
-    Lambert {
-        #[serde(default = "half3")]
-        albedo: V3,
-        #[serde(default = "yes")]
-        two_sided: bool,
-    },
-    /// Phong material, physically based units (see `material.rs`).
-    Phong {
-        #[serde(default)]
-        ambient: V3,
-        #[serde(default)]
-        diffuse: V3,
-        #[serde(default)]
-        specular: V3,
-        #[serde(default = "unit")]
-        exponent: f32,
-        #[serde(default)]
-        reflective: V3,
-        #[serde(default)]
-        transparent: V3,
-        #[serde(default = "ior_glass")]
-        ior: f32,
-        #[serde(default = "yes")]
-        two_sided: bool,
-    },
-    /// Ideal mirror.
-    Mirror {
-        #[serde(default = "one3")]
-        reflectance: V3,
-    },
-    /// Smooth glass: Fresnel-weighted reflection and refraction.
-    Glass {
-        #[serde(default = "ior_glass")]
-        ior: f32,
-        #[serde(default = "one3")]
-        transmittance: V3,
-    },
-    /// A 6.837 course material (`Material`/`PhongMaterial`) with the course's non-physical shading: ambient
-    /// reflectance = `diffuse`, Blinn-Phong specular `specular (n.h)^exponent` without energy normalisation,
-    /// mirror (`reflective`) and refraction (`transparent`, index `ior`) without Fresnel.
-    Mit6837 {
-        #[serde(default = "one3")]
-        diffuse: V3,
-        #[serde(default)]
-        specular: V3,
-        #[serde(default = "unit")]
-        exponent: f32,
-        #[serde(default)]
-        reflective: V3,
-        #[serde(default)]
-        transparent: V3,
-        #[serde(default = "unit")]
-        ior: f32,
-        #[serde(default = "yes")]
-        two_sided: bool,
-    },
-    /// A black surface that emits `radiance`: the entity becomes an area light.
-    Emissive {
-        radiance: V3,
-        #[serde(default)]
-        two_sided: bool,
-    },
 }
 
 #[derive(Deserialize, Debug, Clone)]

@@ -2,6 +2,8 @@
 //! the render settings from the file and the command-line overrides.
 
 pub mod desc;
+mod material_desc;
+mod materials;
 pub mod mit6837;
 mod obj;
 mod ron_scene;

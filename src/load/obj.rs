@@ -3,11 +3,13 @@
 //! physically based material (Kd is an albedo; Ka is ignored because ambient light is not physical); a part with
 //! a non-zero Ke becomes an area light of that radiance. The MTL illumination models that ask for ray tracing
 //! map onto Prism's delta lobes: `illum 3`/`5` make Ks a mirror reflectance, `illum 4`/`6`/`7`/`9` make the
-//! surface a smooth dielectric with index Ni and transmittance Tf (1 when absent).
+//! surface a smooth dielectric with index Ni and transmittance Tf (1 when absent). Texture coordinates are flipped
+//! to `v = 1 - v_obj` (OBJ's v points up the image, Prism's down; Mitsuba does the same).
 
 use crate::error::{PrismError, Result};
-use crate::material::Material;
+use crate::material::{Material, PhongParams};
 use crate::mesh::MeshData;
+use crate::texture::{ColorParam, ScalarParam};
 use glam::{Vec2, Vec3};
 use std::path::Path;
 
@@ -47,7 +49,7 @@ pub fn load_obj(path: &Path) -> Result<Vec<ObjPart>> {
             vec![]
         };
         let uvs: Vec<Vec2> = if m.texcoords.len() == 2 * n {
-            m.texcoords.chunks_exact(2).map(|p| Vec2::new(p[0], p[1])).collect()
+            m.texcoords.chunks_exact(2).map(|p| Vec2::new(p[0], 1.0 - p[1])).collect()
         } else {
             vec![]
         };
@@ -58,21 +60,26 @@ pub fn load_obj(path: &Path) -> Result<Vec<ObjPart>> {
         let (material, emission) = match m.material_id.and_then(|id| materials.get(id)) {
             Some(mtl) => {
                 let c = |v: Option<[f32; 3]>| v.map(Vec3::from).unwrap_or(Vec3::ZERO);
-                let mut mat = Material::lambert(&mtl.name, c(mtl.diffuse));
-                mat.specular = c(mtl.specular);
-                mat.exponent = mtl.shininess.unwrap_or(1.0).max(0.0);
+                let mut p = PhongParams {
+                    diffuse: ColorParam::Const(c(mtl.diffuse)),
+                    specular: ColorParam::Const(c(mtl.specular)),
+                    exponent: ScalarParam::Const(mtl.shininess.unwrap_or(1.0).max(0.0)),
+                    ..PhongParams::default()
+                };
                 match mtl.illumination_model {
                     Some(3 | 5) => {
-                        mat.reflective = mat.specular;
-                        mat.specular = Vec3::ZERO;
+                        p.reflective = p.specular;
+                        p.specular = ColorParam::ZERO;
                     }
                     Some(4 | 6 | 7 | 9) => {
-                        mat.transparent = mtl.unknown_param.get("Tf").and_then(|t| parse_rgb(t)).unwrap_or(Vec3::ONE);
-                        mat.ior = mtl.optical_density.filter(|n| *n > 0.0).unwrap_or(1.5);
-                        mat.specular = Vec3::ZERO;
+                        let tf = mtl.unknown_param.get("Tf").and_then(|t| parse_rgb(t)).unwrap_or(Vec3::ONE);
+                        p.transparent = ColorParam::Const(tf);
+                        p.ior = mtl.optical_density.filter(|n| *n > 0.0).unwrap_or(1.5);
+                        p.specular = ColorParam::ZERO;
                     }
                     _ => {}
                 }
+                let mat = Material::phong(&mtl.name, p);
                 let ke = c(mtl.emissive);
                 (Some(mat), (ke != Vec3::ZERO).then_some(ke))
             }

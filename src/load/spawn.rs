@@ -2,14 +2,15 @@
 //! only the components it uses; materials and meshes go to the resource tables. All semantic validation happens
 //! here, with errors naming the file and the entity.
 
-use super::desc::{AccelDesc, CameraDesc, EntityDesc, LightDesc, MaterialDesc, SceneDesc, ShapeDesc, V3};
+use super::desc::{AccelDesc, CameraDesc, EntityDesc, LightDesc, SceneDesc, ShapeDesc, V3};
+use super::materials::MaterialEntry;
 use super::obj::load_obj;
 use super::ron_scene::plugin_config;
 use super::transform::compose;
 use crate::app::Resources;
 use crate::components::{Camera, Light, MaterialId, Name, Parent, Projection, Shape, Transform};
 use crate::error::{PrismError, Result};
-use crate::material::{Material, Shading};
+use crate::material::Material;
 use crate::mesh::MeshData;
 use crate::sampling::{PixelFilter, PixelPattern, SamplerKind};
 use crate::settings::{AccelKind, GridResolution, PluginConfig};
@@ -31,11 +32,6 @@ pub struct FileSettings {
     pub seed: Option<u64>,
     pub time: Option<f64>,
     pub exposure: Option<f32>,
-}
-
-struct MaterialEntry {
-    id: u32,
-    emission: Option<(Vec3, bool)>,
 }
 
 struct Spawner<'r> {
@@ -84,9 +80,8 @@ pub fn spawn_scene(
         mtl_ids: HashMap::new(),
         part_cache: HashMap::new(),
     };
-    for (name, m) in &desc.materials {
-        sp.add_material(name, m)?;
-    }
+    let textures = super::materials::load_textures(&desc.textures, base_dir, &ctx, sp.res)?;
+    sp.materials = super::materials::load_materials(&desc.materials, &textures, &ctx, sp.res)?;
     if let Some(cam) = &desc.camera {
         let c = camera_component(cam, &format!("{ctx}: camera"))?;
         world.spawn((Name("camera".into()), c));
@@ -177,41 +172,6 @@ pub fn camera_component(c: &CameraDesc, ctx: &str) -> Result<Camera> {
 impl Spawner<'_> {
     fn ctx(&self) -> String {
         self.file.display().to_string()
-    }
-
-    fn add_material(&mut self, name: &str, m: &MaterialDesc) -> Result<()> {
-        let ctx = format!("{}: material '{name}'", self.ctx());
-        let mut emission = None;
-        let mat = match m {
-            MaterialDesc::Lambert { albedo, two_sided } => {
-                Material { two_sided: *two_sided, ..Material::lambert(name, color(*albedo, "albedo", &ctx)?) }
-            }
-            MaterialDesc::Phong { ambient, diffuse, specular, exponent, reflective, transparent, ior, two_sided } => {
-                let colors = [*ambient, *diffuse, *specular, *reflective, *transparent];
-                phong_material(name, &ctx, colors, *exponent, *ior, *two_sided, Shading::Physical)?
-            }
-            // The course's ambient term is ambientLight times the diffuse colour.
-            MaterialDesc::Mit6837 { diffuse, specular, exponent, reflective, transparent, ior, two_sided } => {
-                let colors = [*diffuse, *diffuse, *specular, *reflective, *transparent];
-                phong_material(name, &ctx, colors, *exponent, *ior, *two_sided, Shading::Mit6837)?
-            }
-            MaterialDesc::Mirror { reflectance } => {
-                Material { reflective: color(*reflectance, "reflectance", &ctx)?, ..Material::black(name) }
-            }
-            MaterialDesc::Glass { ior, transmittance } => Material {
-                transparent: color(*transmittance, "transmittance", &ctx)?,
-                ior: check_ior(*ior, &ctx)?,
-                ..Material::black(name)
-            },
-            MaterialDesc::Emissive { radiance, two_sided } => {
-                emission = Some((color(*radiance, "radiance", &ctx)?, *two_sided));
-                Material::black(name)
-            }
-        };
-        self.res.materials.push(mat);
-        let id = self.res.materials.len() as u32 - 1;
-        self.materials.insert(name.to_string(), MaterialEntry { id, emission });
-        Ok(())
     }
 
     fn lookup_material(&self, name: &str, ctx: &str) -> Result<&MaterialEntry> {
@@ -521,41 +481,4 @@ struct MeshPart {
 enum ShapeOut {
     One(Shape),
     Parts(Vec<MeshPart>),
-}
-
-/// A Phong material from `[ambient, diffuse, specular, reflective, transparent]` colours (validated).
-#[allow(clippy::too_many_arguments)]
-fn phong_material(
-    name: &str,
-    ctx: &str,
-    colors: [V3; 5],
-    exponent: f32,
-    ior: f32,
-    two_sided: bool,
-    shading: Shading,
-) -> Result<Material> {
-    if !(exponent.is_finite() && exponent >= 0.0) {
-        return Err(PrismError::scene(ctx, format!("exponent must be >= 0, got {exponent}")));
-    }
-    let [ambient, diffuse, specular, reflective, transparent] = colors;
-    Ok(Material {
-        name: name.to_string(),
-        ambient: color(ambient, "ambient", ctx)?,
-        diffuse: color(diffuse, "diffuse", ctx)?,
-        specular: color(specular, "specular", ctx)?,
-        exponent,
-        reflective: color(reflective, "reflective", ctx)?,
-        transparent: color(transparent, "transparent", ctx)?,
-        ior: check_ior(ior, ctx)?,
-        two_sided,
-        shading,
-    })
-}
-
-fn check_ior(ior: f32, ctx: &str) -> Result<f32> {
-    if ior.is_finite() && ior > 0.0 {
-        Ok(ior)
-    } else {
-        Err(PrismError::scene(ctx, format!("ior must be positive, got {ior}")))
-    }
 }

@@ -43,7 +43,7 @@ pub fn build_scene_system(world: &mut World, res: &mut Resources) -> Result<()> 
         CameraRig::new(cam, &wfl.map(|w| w.0).unwrap_or_default())
             .ok_or_else(|| PrismError::invalid("camera: eye, target and up do not define a view"))?
     };
-    let (prims, emitters) = Primitives::build(world, &res.meshes, res.materials.len() as u32)?;
+    let (prims, emitters) = Primitives::build(world, &res.meshes, &res.materials)?;
     if prims.skipped_degenerate > 0 {
         eprintln!("warning: skipped {} degenerate (zero-area or non-finite) mesh triangles", prims.skipped_degenerate);
     }
@@ -55,6 +55,7 @@ pub fn build_scene_system(world: &mut World, res: &mut Resources) -> Result<()> 
         accel,
         lights: LightSet::default(),
         materials: res.materials.clone(),
+        textures: res.textures.clone(),
         globals: res.globals,
     });
     res.progress.setup += t0.elapsed();

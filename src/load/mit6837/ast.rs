@@ -22,9 +22,39 @@ pub enum LightTxt {
     Point { position: Vec3, color: Vec3, attenuation: [f32; 3] },
 }
 
+/// A material of the `Materials` block.
+#[derive(Clone, Debug, PartialEq)]
+pub enum MaterialTxt {
+    Phong(PhongTxt),
+    /// `Checkerboard`, `Noise`, `Marble`, `Wood` (assignment 6): two materials mixed by a solid texture.
+    Solid(SolidTxt),
+}
+
+/// Which solid texture.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SolidTxtKind {
+    Checkerboard,
+    Noise,
+    Marble,
+    Wood,
+}
+
+/// `Checkerboard { Transform { ops } materialIndex a materialIndex b }`, and `Noise`/`Marble`/`Wood` with
+/// `octaves`, `frequency`, `amplitude` (course defaults 1, 1, 1 where a file omits them).
+#[derive(Clone, Debug, PartialEq)]
+pub struct SolidTxt {
+    pub kind: SolidTxtKind,
+    /// World point to texture space, composed like an object `Transform`.
+    pub ops: Vec<OpTxt>,
+    pub materials: [usize; 2],
+    pub octaves: u32,
+    pub frequency: f32,
+    pub amplitude: f32,
+}
+
 /// `Material` / `PhongMaterial` with the course's defaults.
 #[derive(Clone, Debug, PartialEq)]
-pub struct MaterialTxt {
+pub struct PhongTxt {
     pub diffuse: Vec3,
     pub specular: Vec3,
     pub exponent: f32,
@@ -33,9 +63,9 @@ pub struct MaterialTxt {
     pub ior: f32,
 }
 
-impl Default for MaterialTxt {
+impl Default for PhongTxt {
     fn default() -> Self {
-        MaterialTxt {
+        PhongTxt {
             diffuse: Vec3::ONE,
             specular: Vec3::ZERO,
             exponent: 1.0,

@@ -12,9 +12,10 @@
 //! | `PerspectiveCamera { ... angle }` | `fov: angle` |
 //! | `Transform { ops object }`, nested | an entity with `transform: [ops]` and the object as its child |
 //! | `MaterialIndex i` | the material of every following object, in file order |
+//! | `Checkerboard`, `Noise`, `Marble`, `Wood` (a6) | a solid texture `t{i}` (`Checker3d`, `Noise`, `Marble`, `Wood` with the block's transform, octaves, frequency, amplitude) and `Blend` of the two materials weighted by it |
 //! | image size (a command-line option in the course) | 200 x 200, the course's usual `-size` |
 
-use super::ast::{CameraTxt, LightTxt, MaterialTxt, ObjectTxt, OpTxt, SceneTxt};
+use super::ast::{CameraTxt, LightTxt, MaterialTxt, ObjectTxt, OpTxt, PhongTxt, SceneTxt, SolidTxt, SolidTxtKind};
 use crate::error::Result;
 use crate::geometry::Bounds;
 use crate::load::desc::TransformOp;
@@ -159,7 +160,7 @@ impl Writer<'_> {
     }
 }
 
-fn material_ron(m: &MaterialTxt) -> String {
+fn phong_ron(m: &PhongTxt) -> String {
     format!(
         "Mit6837(diffuse: {}, specular: {}, exponent: {:?}, reflective: {}, transparent: {}, ior: {:?})",
         v3(m.diffuse),
@@ -169,6 +170,26 @@ fn material_ron(m: &MaterialTxt) -> String {
         v3(m.transparent),
         m.ior
     )
+}
+
+/// A solid material `i` as a texture `t{i}` and a blend of its two materials.
+fn solid_ron(i: usize, s: &SolidTxt) -> (String, String) {
+    let ops: Vec<String> = s.ops.iter().map(op_ron).collect();
+    let transform = format!("transform: [{}]", ops.join(", "));
+    let (f, a, o) = (s.frequency, s.amplitude, s.octaves);
+    let texture = match s.kind {
+        SolidTxtKind::Checkerboard => format!("Checker3d({transform})"),
+        SolidTxtKind::Noise => format!("Noise({transform}, octaves: {o})"),
+        SolidTxtKind::Marble => format!("Marble({transform}, octaves: {o}, frequency: {f:?}, amplitude: {a:?})"),
+        SolidTxtKind::Wood => format!("Wood({transform}, octaves: {o}, frequency: {f:?}, amplitude: {a:?})"),
+    };
+    let [m1, m2] = s.materials;
+    // Checkerboard: even cells (value 0) show the first material. Noise, marble, wood: the value weighs the first.
+    let blend = match s.kind {
+        SolidTxtKind::Checkerboard => format!("Blend(a: \"m{m1}\", b: \"m{m2}\", weight: Texture(\"t{i}\"))"),
+        _ => format!("Blend(a: \"m{m2}\", b: \"m{m1}\", weight: Texture(\"t{i}\"))"),
+    };
+    (texture, blend)
 }
 
 /// A 6.837 scene as RON.
@@ -238,9 +259,31 @@ pub fn to_ron(scene: &SceneTxt, file: &Path, mesh_base: &Path) -> Result<Convert
     }
     let _ = writeln!(s, "    background: {},", v3(scene.background));
     let _ = writeln!(s, "    ambient: {},", v3(scene.ambient));
+    let solids: Vec<(usize, (String, String))> = scene
+        .materials
+        .iter()
+        .enumerate()
+        .filter_map(|(i, m)| match m {
+            MaterialTxt::Solid(sd) => Some((i, solid_ron(i, sd))),
+            MaterialTxt::Phong(_) => None,
+        })
+        .collect();
+    if !solids.is_empty() {
+        s += "    textures: {\n";
+        for (i, (tex, _)) in &solids {
+            let _ = writeln!(s, "        \"t{i}\": {tex},");
+        }
+        s += "    },\n";
+    }
     s += "    materials: {\n";
     for (i, m) in scene.materials.iter().enumerate() {
-        let _ = writeln!(s, "        \"m{i}\": {},", material_ron(m));
+        let ron = match m {
+            MaterialTxt::Phong(p) => phong_ron(p),
+            MaterialTxt::Solid(_) => {
+                solids.iter().find(|(j, _)| *j == i).map(|(_, (_, b))| b.clone()).unwrap_or_default()
+            }
+        };
+        let _ = writeln!(s, "        \"m{i}\": {ron},");
     }
     s += "    },\n    entities: [\n";
     for (i, l) in scene.lights.iter().enumerate() {

@@ -10,8 +10,9 @@ mod ast;
 mod convert;
 mod lexer;
 mod parser;
+mod solid_parser;
 
-pub use ast::{CameraTxt, LightTxt, MaterialTxt, ObjectTxt, OpTxt, SceneTxt};
+pub use ast::{CameraTxt, LightTxt, MaterialTxt, ObjectTxt, OpTxt, PhongTxt, SceneTxt, SolidTxt, SolidTxtKind};
 pub use convert::{Converted, DEFAULT_SIZE, relative_path, to_ron};
 pub use lexer::{Token, tokenize};
 pub use parser::parse_txt;

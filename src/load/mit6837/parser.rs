@@ -4,13 +4,13 @@
 //! only asserted: braces, declared counts (`numObjects`, `numMaterials`, `numLights`), keywords, numbers, material
 //! indices and that mesh files exist, each failure a one-line error `file:line:col: message`.
 
-use super::ast::{CameraTxt, LightTxt, MaterialTxt, ObjectTxt, OpTxt, SceneTxt};
+use super::ast::{CameraTxt, LightTxt, MaterialTxt, ObjectTxt, OpTxt, PhongTxt, SceneTxt};
 use super::lexer::{Token, tokenize};
 use crate::error::{PrismError, Result, SourcePos};
 use glam::Vec3;
 use std::path::{Path, PathBuf};
 
-struct Parser<'a> {
+pub(super) struct Parser<'a> {
     tokens: Vec<Token>,
     next: usize,
     file: &'a Path,
@@ -34,12 +34,12 @@ pub fn parse_txt(text: &str, file: &Path, base_dir: &Path) -> Result<SceneTxt> {
 }
 
 impl Parser<'_> {
-    fn error_at(&self, line: usize, col: usize, message: impl Into<String>) -> PrismError {
+    pub(super) fn error_at(&self, line: usize, col: usize, message: impl Into<String>) -> PrismError {
         PrismError::Parse { pos: SourcePos { file: self.file.to_path_buf(), line, col }, message: message.into() }
     }
 
     /// An error at the token just read (or the end of the file).
-    fn error(&self, message: impl Into<String>) -> PrismError {
+    pub(super) fn error(&self, message: impl Into<String>) -> PrismError {
         match self.tokens.get(self.next.saturating_sub(1)) {
             Some(t) => self.error_at(t.line, t.col, message),
             None => self.error_at(1, 1, message),
@@ -51,7 +51,7 @@ impl Parser<'_> {
     }
 
     /// The next token; `what` says what was expected, for the end-of-file message.
-    fn token(&mut self, what: &str) -> Result<Token> {
+    pub(super) fn token(&mut self, what: &str) -> Result<Token> {
         match self.tokens.get(self.next) {
             Some(t) => {
                 self.next += 1;
@@ -64,7 +64,7 @@ impl Parser<'_> {
         }
     }
 
-    fn expect(&mut self, word: &str, context: &str) -> Result<()> {
+    pub(super) fn expect(&mut self, word: &str, context: &str) -> Result<()> {
         let t = self.token(&format!("`{word}` {context}"))?;
         if t.text != word {
             return Err(self.error_at(t.line, t.col, format!("expected `{word}` {context}, found `{}`", t.text)));
@@ -72,7 +72,7 @@ impl Parser<'_> {
         Ok(())
     }
 
-    fn float(&mut self, what: &str) -> Result<f32> {
+    pub(super) fn float(&mut self, what: &str) -> Result<f32> {
         let t = self.token(&format!("a number for {what}"))?;
         match t.text.parse::<f32>() {
             Ok(v) if v.is_finite() => Ok(v),
@@ -80,14 +80,14 @@ impl Parser<'_> {
         }
     }
 
-    fn int(&mut self, what: &str) -> Result<usize> {
+    pub(super) fn int(&mut self, what: &str) -> Result<usize> {
         let t = self.token(&format!("a count for {what}"))?;
         t.text.parse::<usize>().map_err(|_| {
             self.error_at(t.line, t.col, format!("expected a non-negative integer for {what}, found `{}`", t.text))
         })
     }
 
-    fn vec3(&mut self, what: &str) -> Result<Vec3> {
+    pub(super) fn vec3(&mut self, what: &str) -> Result<Vec3> {
         Ok(Vec3::new(self.float(what)?, self.float(what)?, self.float(what)?))
     }
 
@@ -290,39 +290,58 @@ impl Parser<'_> {
     }
 
     fn materials(&mut self) -> Result<Vec<MaterialTxt>> {
-        let m = self.counted_block("Materials", "numMaterials", &["Material", "PhongMaterial"], |p, kind| {
-            p.expect("{", &format!("after {kind}"))?;
-            let mut m = MaterialTxt::default();
-            loop {
-                let t = p.token(&format!("a property or `}}` in {kind}"))?;
-                let what = format!("`{}` of {kind}", t.text);
-                match t.text.as_str() {
-                    "}" => return Ok(m),
-                    "diffuseColor" => m.diffuse = p.vec3(&what)?,
-                    "specularColor" => m.specular = p.vec3(&what)?,
-                    "exponent" => m.exponent = p.float(&what)?,
-                    "reflectiveColor" => m.reflective = p.vec3(&what)?,
-                    "transparentColor" => m.transparent = p.vec3(&what)?,
-                    "indexOfRefraction" => m.ior = p.float(&what)?,
-                    other => {
-                        return Err(p.error_at(
-                            t.line,
-                            t.col,
-                            format!(
-                                "unknown keyword `{other}` in {kind} (expected diffuseColor, specularColor, \
-                                 exponent, reflectiveColor, transparentColor or indexOfRefraction)"
-                            ),
-                        ));
-                    }
-                }
-                let colors = [m.diffuse, m.specular, m.reflective, m.transparent];
-                if colors.iter().any(|c| c.min_element() < 0.0) || m.exponent < 0.0 || m.ior <= 0.0 {
-                    return Err(p.error(format!("{what}: colours and exponent must be >= 0 and the index > 0")));
-                }
-            }
+        const KINDS: [&str; 6] = ["Material", "PhongMaterial", "Checkerboard", "Noise", "Marble", "Wood"];
+        let m = self.counted_block("Materials", "numMaterials", &KINDS, |p, kind| match kind {
+            "Material" | "PhongMaterial" => Ok(MaterialTxt::Phong(p.phong_material(kind)?)),
+            _ => Ok(MaterialTxt::Solid(p.solid_material(kind)?)),
         })?;
+        // Solid materials refer to materials of the same block, by index.
+        for (i, mat) in m.iter().enumerate() {
+            if let MaterialTxt::Solid(s) = mat
+                && let Some(bad) = s.materials.iter().find(|&&j| j >= m.len() || j == i)
+            {
+                return Err(self.error(format!(
+                    "material {i} ({:?}) uses materialIndex {bad}: the block defines {} materials{}",
+                    s.kind,
+                    m.len(),
+                    if *bad == i { " and a material cannot contain itself" } else { "" }
+                )));
+            }
+        }
         self.num_materials = Some(m.len());
         Ok(m)
+    }
+
+    fn phong_material(&mut self, kind: &str) -> Result<PhongTxt> {
+        self.expect("{", &format!("after {kind}"))?;
+        let mut m = PhongTxt::default();
+        loop {
+            let t = self.token(&format!("a property or `}}` in {kind}"))?;
+            let what = format!("`{}` of {kind}", t.text);
+            match t.text.as_str() {
+                "}" => return Ok(m),
+                "diffuseColor" => m.diffuse = self.vec3(&what)?,
+                "specularColor" => m.specular = self.vec3(&what)?,
+                "exponent" => m.exponent = self.float(&what)?,
+                "reflectiveColor" => m.reflective = self.vec3(&what)?,
+                "transparentColor" => m.transparent = self.vec3(&what)?,
+                "indexOfRefraction" => m.ior = self.float(&what)?,
+                other => {
+                    return Err(self.error_at(
+                        t.line,
+                        t.col,
+                        format!(
+                            "unknown keyword `{other}` in {kind} (expected diffuseColor, specularColor, exponent, \
+                             reflectiveColor, transparentColor or indexOfRefraction)"
+                        ),
+                    ));
+                }
+            }
+            let colors = [m.diffuse, m.specular, m.reflective, m.transparent];
+            if colors.iter().any(|c| c.min_element() < 0.0) || m.exponent < 0.0 || m.ior <= 0.0 {
+                return Err(self.error(format!("{what}: colours and exponent must be >= 0 and the index > 0")));
+            }
+        }
     }
 
     fn group(&mut self, line: usize) -> Result<ObjectTxt> {
@@ -453,53 +472,62 @@ impl Parser<'_> {
         let mut ops: Vec<OpTxt> = Vec::new();
         loop {
             let t = self.token("a transformation or an object in Transform")?;
-            let op = match t.text.as_str() {
-                "Scale" => OpTxt::Scale(self.vec3("`Scale`")?),
-                "UniformScale" => OpTxt::UniformScale(self.float("`UniformScale`")?),
-                "Translate" => OpTxt::Translate(self.vec3("`Translate`")?),
-                "XRotate" => OpTxt::Rotate { axis: Vec3::X, degrees: self.float("`XRotate`")? },
-                "YRotate" => OpTxt::Rotate { axis: Vec3::Y, degrees: self.float("`YRotate`")? },
-                "ZRotate" => OpTxt::Rotate { axis: Vec3::Z, degrees: self.float("`ZRotate`")? },
-                "Rotate" => {
-                    self.expect("{", "after Rotate")?;
-                    let axis = self.vec3("the axis of `Rotate`")?;
-                    let degrees = self.float("the angle of `Rotate`")?;
-                    self.expect("}", "to close Rotate")?;
-                    if axis == Vec3::ZERO {
-                        return Err(self.error("Rotate axis is the zero vector"));
-                    }
-                    OpTxt::Rotate { axis, degrees }
-                }
-                "Matrix" => {
-                    self.expect("{", "after Matrix")?;
-                    let mut rows = [[0.0; 4]; 4];
-                    for row in rows.iter_mut() {
-                        for v in row.iter_mut() {
-                            *v = self.float("`Matrix` (16 numbers, row by row)")?;
-                        }
-                    }
-                    self.expect("}", "to close Matrix (after 16 numbers)")?;
-                    if rows[3] != [0.0, 0.0, 0.0, 1.0] {
-                        return Err(self.error(format!("Matrix last row must be 0 0 0 1 (affine), got {:?}", rows[3])));
-                    }
-                    ops.insert(0, OpTxt::Matrix(rows));
-                    continue;
-                }
-                _ => {
+            match self.transform_op(&t)? {
+                Some(op @ OpTxt::Matrix(_)) => ops.insert(0, op),
+                Some(op) => ops.push(op),
+                None => {
                     let child = self.object(&t)?;
                     self.expect("}", "to close Transform (one object per Transform)")?;
                     return Ok(ObjectTxt::Transform { line, ops, child: Box::new(child) });
                 }
-            };
-            let singular = match &op {
-                OpTxt::Scale(s) => s.x * s.y * s.z == 0.0,
-                OpTxt::UniformScale(s) => *s == 0.0,
-                _ => false,
-            };
-            if singular {
-                return Err(self.error("a zero scale makes the transform singular"));
             }
-            ops.push(op);
         }
+    }
+
+    /// The transformation named by the token just read (its arguments follow), or `None` when the token is not a
+    /// transformation. `Matrix` is returned as is: the caller pre-multiplies it as the course does.
+    pub(super) fn transform_op(&mut self, t: &Token) -> Result<Option<OpTxt>> {
+        let op = match t.text.as_str() {
+            "Scale" => OpTxt::Scale(self.vec3("`Scale`")?),
+            "UniformScale" => OpTxt::UniformScale(self.float("`UniformScale`")?),
+            "Translate" => OpTxt::Translate(self.vec3("`Translate`")?),
+            "XRotate" => OpTxt::Rotate { axis: Vec3::X, degrees: self.float("`XRotate`")? },
+            "YRotate" => OpTxt::Rotate { axis: Vec3::Y, degrees: self.float("`YRotate`")? },
+            "ZRotate" => OpTxt::Rotate { axis: Vec3::Z, degrees: self.float("`ZRotate`")? },
+            "Rotate" => {
+                self.expect("{", "after Rotate")?;
+                let axis = self.vec3("the axis of `Rotate`")?;
+                let degrees = self.float("the angle of `Rotate`")?;
+                self.expect("}", "to close Rotate")?;
+                if axis == Vec3::ZERO {
+                    return Err(self.error("Rotate axis is the zero vector"));
+                }
+                OpTxt::Rotate { axis, degrees }
+            }
+            "Matrix" => {
+                self.expect("{", "after Matrix")?;
+                let mut rows = [[0.0; 4]; 4];
+                for row in rows.iter_mut() {
+                    for v in row.iter_mut() {
+                        *v = self.float("`Matrix` (16 numbers, row by row)")?;
+                    }
+                }
+                self.expect("}", "to close Matrix (after 16 numbers)")?;
+                if rows[3] != [0.0, 0.0, 0.0, 1.0] {
+                    return Err(self.error(format!("Matrix last row must be 0 0 0 1 (affine), got {:?}", rows[3])));
+                }
+                OpTxt::Matrix(rows)
+            }
+            _ => return Ok(None),
+        };
+        let singular = match &op {
+            OpTxt::Scale(s) => s.x * s.y * s.z == 0.0,
+            OpTxt::UniformScale(s) => *s == 0.0,
+            _ => false,
+        };
+        if singular {
+            return Err(self.error("a zero scale makes the transform singular"));
+        }
+        Ok(Some(op))
     }
 }

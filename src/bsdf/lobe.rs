@@ -1,0 +1,396 @@
+//! The lobes a BSDF is made of, each evaluated and sampled in the local shading frame (z = shading normal, `wo`
+//! the unit direction towards the viewer, normally `wo.z > 0`). A [`Lobe`] is a plain enum: a BSDF is a small
+//! fixed array of them and every call is a `match`, never a virtual call.
+//!
+//! | lobe | f(wo, wi) |
+//! |---|---|
+//! | `Diffuse` | `albedo / pi` |
+//! | `Phong` | `ks (e + 2) / (2 pi) cos^e(angle between wi and the mirror direction of wo)` (energy-normalised) |
+//! | `Blinn6837` | `ks (n.h)^e / (pi wi.z)`: the 6.837 course's specular term (times the irradiance pi c cos of a light of colour c it gives `ks (n.h)^e c`) |
+//! | `Mirror` | ideal reflection, weight `r` (delta) |
+//! | `Dielectric` | smooth Fresnel dielectric: reflection `r F`, refraction `t (1 - F)` (`/ eta^2` for radiance) (delta) |
+//! | `CourseRefraction` | the course's refraction: weight `t`, no Fresnel, nothing under total internal reflection (delta) |
+//! | `Conductor` | GGX `F D G / (4 wo.z wi.z)` with a conductor Fresnel term, times `scale`; smooth (delta) when alpha = 0 |
+//! | `RoughDielectric` | GGX reflection `r F D G / (4 |wo.z wi.z|)` and transmission (Walter et al. 2007) `t (1 - F) D G |wo.m| |wi.m| / (|wo.z wi.z| (wo.m + eta wi.m)^2)` (times `eta^2` for importance) |
+//! | `Plastic` | GGX dielectric coat `specular F D G / (4 wo.z wi.z)` over a diffuse base `diffuse (1 - F(wo.z)) (1 - F(wi.z)) / (pi eta^2 (1 - Fdr_int))` (Mitsuba's plastic, with the smooth-interface transmittance for the base) |
+//!
+//! `eta` is the relative index (transmitted side over `wo`'s side). Microfacet terms: [`super::microfacet`].
+
+use super::TransportMode;
+use super::fresnel::{fresnel_conductor, fresnel_schlick};
+use super::microfacet::{ggx_d, ggx_g1, sample_visible, visible_pdf};
+use crate::math::{Frame, fresnel_dielectric, luminance};
+use crate::sampling::warp;
+use glam::{Vec2, Vec3, Vec3A};
+use std::f32::consts::FRAC_1_PI;
+
+/// A conductor's Fresnel term.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ConductorFresnel {
+    /// Exact, from the complex index of refraction `eta + i k` per RGB channel.
+    Complex { eta: Vec3, k: Vec3 },
+    /// Schlick's approximation from the reflectance at normal incidence.
+    Schlick(Vec3),
+}
+
+impl ConductorFresnel {
+    #[inline]
+    pub fn eval(&self, cos_i: f32) -> Vec3 {
+        match self {
+            ConductorFresnel::Complex { eta, k } => fresnel_conductor(cos_i, *eta, *k),
+            ConductorFresnel::Schlick(r0) => fresnel_schlick(cos_i, *r0),
+        }
+    }
+}
+
+/// One lobe of a BSDF, with its parameters already resolved at the hit (textures looked up, blend weights applied).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Lobe {
+    Diffuse { albedo: Vec3 },
+    Phong { ks: Vec3, exponent: f32 },
+    Blinn6837 { ks: Vec3, exponent: f32 },
+    Mirror { r: Vec3 },
+    Dielectric { r: Vec3, t: Vec3, eta: f32 },
+    CourseRefraction { t: Vec3, eta: f32 },
+    Conductor { alpha: f32, fresnel: ConductorFresnel, scale: Vec3 },
+    RoughDielectric { alpha: f32, r: Vec3, t: Vec3, eta: f32 },
+    Plastic { alpha: f32, eta: f32, diffuse: Vec3, specular: Vec3, fdr_int: f32 },
+}
+
+/// A direction drawn from one lobe; `weight` is the throughput `f |cos| / p` of delta lobes (unused otherwise).
+#[derive(Clone, Copy, Debug)]
+pub struct LobeSample {
+    pub wi: Vec3A,
+    pub weight: Vec3,
+}
+
+#[inline]
+fn reflect_z(w: Vec3A) -> Vec3A {
+    Vec3A::new(-w.x, -w.y, w.z)
+}
+
+/// Reflect `w` about the unit vector `m`.
+#[inline]
+fn reflect_about(w: Vec3A, m: Vec3A) -> Vec3A {
+    2.0 * w.dot(m) * m - w
+}
+
+/// Refract `w` (on the side `m` points to) through the microsurface `m` with relative index `eta`.
+#[inline]
+fn refract_about(w: Vec3A, m: Vec3A, eta: f32) -> Option<Vec3A> {
+    crate::math::refract(w, m, eta).map(|t| t.normalize())
+}
+
+/// Half vector of a refraction pair, oriented to +z.
+#[inline]
+fn half_transmit(wo: Vec3A, wi: Vec3A, eta: f32) -> Option<Vec3A> {
+    let m = (wo + eta * wi).normalize_or_zero();
+    if m == Vec3A::ZERO {
+        return None;
+    }
+    Some(if m.z < 0.0 { -m } else { m })
+}
+
+impl Lobe {
+    /// True for lobes concentrated on single directions (mirror, smooth dielectric, smooth conductor).
+    #[inline]
+    pub fn is_delta(&self) -> bool {
+        match self {
+            Lobe::Mirror { .. } | Lobe::Dielectric { .. } | Lobe::CourseRefraction { .. } => true,
+            Lobe::Conductor { alpha, .. } => *alpha == 0.0,
+            _ => false,
+        }
+    }
+
+    /// The lobe times `w` (a blend weight).
+    pub fn scaled(self, w: f32) -> Lobe {
+        match self {
+            Lobe::Diffuse { albedo } => Lobe::Diffuse { albedo: albedo * w },
+            Lobe::Phong { ks, exponent } => Lobe::Phong { ks: ks * w, exponent },
+            Lobe::Blinn6837 { ks, exponent } => Lobe::Blinn6837 { ks: ks * w, exponent },
+            Lobe::Mirror { r } => Lobe::Mirror { r: r * w },
+            Lobe::Dielectric { r, t, eta } => Lobe::Dielectric { r: r * w, t: t * w, eta },
+            Lobe::CourseRefraction { t, eta } => Lobe::CourseRefraction { t: t * w, eta },
+            Lobe::Conductor { alpha, fresnel, scale } => Lobe::Conductor { alpha, fresnel, scale: scale * w },
+            Lobe::RoughDielectric { alpha, r, t, eta } => Lobe::RoughDielectric { alpha, r: r * w, t: t * w, eta },
+            Lobe::Plastic { alpha, eta, diffuse, specular, fdr_int } => {
+                Lobe::Plastic { alpha, eta, diffuse: diffuse * w, specular: specular * w, fdr_int }
+            }
+        }
+    }
+
+    /// Add `other` into `self` when both are the same lobe up to their (linear) colours. Returns false otherwise.
+    pub fn merge(&mut self, other: &Lobe) -> bool {
+        match (self, other) {
+            (Lobe::Diffuse { albedo: a }, Lobe::Diffuse { albedo: b }) => *a += *b,
+            (Lobe::Phong { ks: a, exponent: e }, Lobe::Phong { ks: b, exponent: f }) if e == f => *a += *b,
+            (Lobe::Blinn6837 { ks: a, exponent: e }, Lobe::Blinn6837 { ks: b, exponent: f }) if e == f => *a += *b,
+            (Lobe::Mirror { r: a }, Lobe::Mirror { r: b }) => *a += *b,
+            (Lobe::Dielectric { r, t, eta }, Lobe::Dielectric { r: r2, t: t2, eta: e2 }) if eta == e2 => {
+                *r += *r2;
+                *t += *t2;
+            }
+            (Lobe::CourseRefraction { t, eta }, Lobe::CourseRefraction { t: t2, eta: e2 }) if eta == e2 => *t += *t2,
+            (Lobe::Conductor { alpha, fresnel, scale }, Lobe::Conductor { alpha: a2, fresnel: f2, scale: s2 })
+                if alpha == a2 && fresnel == f2 =>
+            {
+                *scale += *s2
+            }
+            _ => return false,
+        }
+        true
+    }
+
+    /// Probability weight of choosing this lobe when sampling (about its albedo seen from `wo`); 0 drops it.
+    pub fn selection_weight(&self, wo: Vec3A) -> f32 {
+        let w = match self {
+            Lobe::Diffuse { albedo } => luminance(*albedo),
+            Lobe::Phong { ks, .. } | Lobe::Blinn6837 { ks, .. } => luminance(*ks),
+            Lobe::Mirror { r } => luminance(*r),
+            Lobe::Dielectric { r, t, eta } => {
+                let f = fresnel_dielectric(wo.z, *eta);
+                f * luminance(*r) + (1.0 - f) * luminance(*t)
+            }
+            Lobe::CourseRefraction { t, .. } => luminance(*t),
+            Lobe::Conductor { fresnel, scale, .. } => luminance(fresnel.eval(wo.z) * *scale),
+            Lobe::RoughDielectric { r, t, eta, .. } => {
+                let f = fresnel_dielectric(wo.z, *eta);
+                f * luminance(*r) + (1.0 - f) * luminance(*t)
+            }
+            Lobe::Plastic { eta, diffuse, specular, .. } => {
+                let f = fresnel_dielectric(wo.z, *eta);
+                f * luminance(*specular) + (1.0 - f) * luminance(*diffuse)
+            }
+        };
+        if w.is_finite() { w.max(0.0) } else { 0.0 }
+    }
+
+    /// The lobe's value `f(wo, wi)` (0 for delta lobes).
+    #[inline]
+    pub fn eval(&self, wo: Vec3A, wi: Vec3A, mode: TransportMode) -> Vec3 {
+        let reflect = wo.z > 0.0 && wi.z > 0.0;
+        match *self {
+            Lobe::Diffuse { albedo } => {
+                if reflect {
+                    albedo * FRAC_1_PI
+                } else {
+                    Vec3::ZERO
+                }
+            }
+            Lobe::Phong { ks, exponent } => {
+                let c = reflect_z(wo).dot(wi);
+                if reflect && c > 0.0 {
+                    ks * ((exponent + 2.0) * 0.5 * FRAC_1_PI * c.powf(exponent))
+                } else {
+                    Vec3::ZERO
+                }
+            }
+            Lobe::Blinn6837 { ks, exponent } => {
+                if !reflect {
+                    return Vec3::ZERO;
+                }
+                let cos_h = (wo + wi).normalize_or_zero().z;
+                if cos_h > 0.0 { ks * (cos_h.powf(exponent) * FRAC_1_PI / wi.z) } else { Vec3::ZERO }
+            }
+            Lobe::Mirror { .. } | Lobe::Dielectric { .. } | Lobe::CourseRefraction { .. } => Vec3::ZERO,
+            Lobe::Conductor { alpha, fresnel, scale } => {
+                if !reflect || alpha == 0.0 {
+                    return Vec3::ZERO;
+                }
+                let h = (wo + wi).normalize();
+                let g = ggx_g1(wo, h, alpha) * ggx_g1(wi, h, alpha);
+                fresnel.eval(wo.dot(h)) * scale * (ggx_d(h, alpha) * g / (4.0 * wo.z * wi.z))
+            }
+            Lobe::RoughDielectric { alpha, r, t, eta } => rough_dielectric_eval(alpha, r, t, eta, wo, wi, mode),
+            Lobe::Plastic { alpha, eta, diffuse, specular, fdr_int } => {
+                if !reflect {
+                    return Vec3::ZERO;
+                }
+                let h = (wo + wi).normalize();
+                let g = ggx_g1(wo, h, alpha) * ggx_g1(wi, h, alpha);
+                let fs = fresnel_dielectric(wo.dot(h), eta) * ggx_d(h, alpha) * g / (4.0 * wo.z * wi.z);
+                let t = (1.0 - fresnel_dielectric(wo.z, eta)) * (1.0 - fresnel_dielectric(wi.z, eta));
+                specular * fs + diffuse * (t * FRAC_1_PI / (eta * eta * (1.0 - fdr_int)))
+            }
+        }
+    }
+
+    /// Density (solid angle) with which [`Lobe::sample`] draws `wi` (0 for delta lobes).
+    #[inline]
+    pub fn pdf(&self, wo: Vec3A, wi: Vec3A) -> f32 {
+        let reflect = wo.z > 0.0 && wi.z > 0.0;
+        match *self {
+            Lobe::Diffuse { .. } => {
+                if reflect {
+                    warp::cosine_hemisphere_pdf(wi)
+                } else {
+                    0.0
+                }
+            }
+            Lobe::Phong { exponent, .. } | Lobe::Blinn6837 { exponent, .. } => {
+                if wo.z <= 0.0 {
+                    return 0.0;
+                }
+                warp::phong_lobe_pdf(Frame::from_normal(reflect_z(wo)).to_local(wi), exponent)
+            }
+            Lobe::Mirror { .. } | Lobe::Dielectric { .. } | Lobe::CourseRefraction { .. } => 0.0,
+            Lobe::Conductor { alpha, .. } => {
+                if !reflect || alpha == 0.0 {
+                    return 0.0;
+                }
+                let h = (wo + wi).normalize();
+                visible_pdf(wo, h, alpha) / (4.0 * wo.dot(h))
+            }
+            Lobe::RoughDielectric { alpha, eta, .. } => rough_dielectric_pdf(alpha, eta, wo, wi),
+            Lobe::Plastic { alpha, eta, diffuse, specular, .. } => {
+                if !reflect {
+                    return 0.0;
+                }
+                let ps = plastic_specular_probability(wo, eta, diffuse, specular);
+                let h = (wo + wi).normalize();
+                ps * visible_pdf(wo, h, alpha) / (4.0 * wo.dot(h)) + (1.0 - ps) * warp::cosine_hemisphere_pdf(wi)
+            }
+        }
+    }
+
+    /// Draw a direction: `uc` in [0, 1) chooses between a lobe's parts (reflection or refraction), `u` places it.
+    /// `None` when the direction falls where the lobe has no value (e.g. below the surface).
+    #[inline]
+    pub fn sample(&self, wo: Vec3A, uc: f32, u: Vec2, mode: TransportMode) -> Option<LobeSample> {
+        if wo.z <= 0.0 && !matches!(self, Lobe::Dielectric { .. } | Lobe::CourseRefraction { .. }) {
+            return None;
+        }
+        let dir = |wi: Vec3A| Some(LobeSample { wi, weight: Vec3::ZERO });
+        match *self {
+            Lobe::Diffuse { .. } => dir(warp::cosine_hemisphere(u)),
+            Lobe::Phong { exponent, .. } | Lobe::Blinn6837 { exponent, .. } => {
+                dir(Frame::from_normal(reflect_z(wo)).to_world(warp::phong_lobe(u, exponent)))
+            }
+            Lobe::Mirror { r } => Some(LobeSample { wi: reflect_z(wo), weight: r }),
+            Lobe::Dielectric { r, t, eta } => {
+                let f = fresnel_dielectric(wo.z.abs(), eta);
+                if uc < f {
+                    return Some(LobeSample { wi: reflect_z(wo), weight: r });
+                }
+                let wi = crate::math::refract(wo, Vec3A::Z, eta)?.normalize();
+                let scale = match mode {
+                    TransportMode::Radiance => 1.0 / (eta * eta),
+                    TransportMode::Importance => 1.0,
+                };
+                Some(LobeSample { wi, weight: t * scale })
+            }
+            Lobe::CourseRefraction { t, eta } => {
+                let wi = crate::math::refract(wo, Vec3A::Z, eta)?.normalize();
+                Some(LobeSample { wi, weight: t })
+            }
+            Lobe::Conductor { alpha, fresnel, scale } => {
+                if alpha == 0.0 {
+                    return Some(LobeSample { wi: reflect_z(wo), weight: fresnel.eval(wo.z) * scale });
+                }
+                let m = sample_visible(wo, alpha, u);
+                dir(reflect_about(wo, m))
+            }
+            Lobe::RoughDielectric { alpha, eta, .. } => {
+                let m = sample_visible(wo, alpha, u);
+                let f = fresnel_dielectric(wo.dot(m), eta);
+                // A reflection must stay above the surface and a refraction go below it (microfacets tilted far
+                // enough can send either to the wrong side; the pdf counts them on the side they land).
+                let wi = if uc < f { reflect_about(wo, m) } else { refract_about(wo, m, eta)? };
+                if (wi.z > 0.0) != (uc < f) {
+                    return None;
+                }
+                dir(wi)
+            }
+            Lobe::Plastic { alpha, eta, diffuse, specular, .. } => {
+                if uc < plastic_specular_probability(wo, eta, diffuse, specular) {
+                    dir(reflect_about(wo, sample_visible(wo, alpha, u)))
+                } else {
+                    dir(warp::cosine_hemisphere(u))
+                }
+            }
+        }
+    }
+
+    /// Every direction a delta lobe scatters `wo` into, with its throughput and the lobe's colour (for Whitted
+    /// recursion, which follows all of them): `(wi, weight, filter)`.
+    pub fn delta_branches(&self, wo: Vec3A, mut f: impl FnMut(Vec3A, Vec3, Vec3)) {
+        match *self {
+            Lobe::Mirror { r } => f(reflect_z(wo), r, r),
+            Lobe::Conductor { alpha: 0.0, fresnel, scale } => f(reflect_z(wo), fresnel.eval(wo.z) * scale, scale),
+            Lobe::Dielectric { r, t, eta } => {
+                let fr = fresnel_dielectric(wo.z.max(0.0), eta);
+                if fr > 0.0 {
+                    f(reflect_z(wo), r * fr, t);
+                }
+                if fr < 1.0
+                    && let Some(wi) = crate::math::refract(wo, Vec3A::Z, eta)
+                {
+                    // Radiance is scaled by 1/eta^2 across the interface (it cancels for closed objects).
+                    f(wi.normalize(), t * ((1.0 - fr) / (eta * eta)), t);
+                }
+            }
+            Lobe::CourseRefraction { t, eta } => {
+                if let Some(wi) = crate::math::refract(wo, Vec3A::Z, eta) {
+                    f(wi.normalize(), t, t);
+                }
+            }
+            _ => {}
+        }
+    }
+}
+
+/// Probability of sampling the plastic's specular coat rather than its base.
+#[inline]
+fn plastic_specular_probability(wo: Vec3A, eta: f32, diffuse: Vec3, specular: Vec3) -> f32 {
+    let f = fresnel_dielectric(wo.z, eta);
+    let (s, d) = (f * luminance(specular), (1.0 - f) * luminance(diffuse));
+    if s + d > 0.0 { s / (s + d) } else { 0.5 }
+}
+
+fn rough_dielectric_eval(alpha: f32, r: Vec3, t: Vec3, eta: f32, wo: Vec3A, wi: Vec3A, mode: TransportMode) -> Vec3 {
+    if wo.z == 0.0 || wi.z == 0.0 {
+        return Vec3::ZERO;
+    }
+    if wo.z * wi.z > 0.0 {
+        let mut m = (wo + wi).normalize();
+        if m.z < 0.0 {
+            m = -m;
+        }
+        let f = fresnel_dielectric(wo.dot(m).abs(), eta);
+        let g = ggx_g1(wo, m, alpha) * ggx_g1(wi, m, alpha);
+        return r * (f * ggx_d(m, alpha) * g / (4.0 * (wo.z * wi.z).abs()));
+    }
+    let Some(m) = half_transmit(wo, wi, eta) else { return Vec3::ZERO };
+    let (om, im) = (wo.dot(m), wi.dot(m));
+    let g = ggx_g1(wo, m, alpha) * ggx_g1(wi, m, alpha);
+    if g == 0.0 {
+        return Vec3::ZERO;
+    }
+    let f = fresnel_dielectric(om.abs(), eta);
+    let denom = om + eta * im;
+    let mut v = (1.0 - f) * ggx_d(m, alpha) * g * (om * im).abs() / ((wo.z * wi.z).abs() * denom * denom);
+    if mode == TransportMode::Importance {
+        v *= eta * eta;
+    }
+    if v.is_finite() { t * v } else { Vec3::ZERO }
+}
+
+fn rough_dielectric_pdf(alpha: f32, eta: f32, wo: Vec3A, wi: Vec3A) -> f32 {
+    if wo.z <= 0.0 || wi.z == 0.0 {
+        return 0.0;
+    }
+    if wi.z > 0.0 {
+        let m = (wo + wi).normalize();
+        let f = fresnel_dielectric(wo.dot(m), eta);
+        return f * visible_pdf(wo, m, alpha) / (4.0 * wo.dot(m).abs());
+    }
+    let Some(m) = half_transmit(wo, wi, eta) else { return 0.0 };
+    let (om, im) = (wo.dot(m), wi.dot(m));
+    if om <= 0.0 || im >= 0.0 {
+        return 0.0;
+    }
+    let f = fresnel_dielectric(om, eta);
+    let denom = om + eta * im;
+    let p = (1.0 - f) * visible_pdf(wo, m, alpha) * eta * eta * im.abs() / (denom * denom);
+    if p.is_finite() { p } else { 0.0 }
+}

@@ -1,0 +1,350 @@
+//! The BSDF at one surface point: a small fixed array of [`Lobe`]s resolved from the material at the hit
+//! (`material::bsdf`), built per hit and returned by value. Every integrator goes through it: evaluation and pdf
+//! of the smooth lobes, sampling of every lobe, the delta branches for Whitted recursion, and the ambient
+//! reflectance of the Phong model.
+//!
+//! - A lobe is chosen with probability proportional to its [`Lobe::selection_weight`] (about its albedo). The
+//!   smooth lobes form one mixture whose `pdf` is what multiple importance sampling compares with light sampling;
+//!   delta lobes have no pdf and their samples are flagged `delta`.
+//! - Directions are world space; `wo` points towards the viewer (or, for particles, where the particle came
+//!   from). The shading frame faces `wo`: two-sided materials are seen from both sides, one-sided ones lose their
+//!   reflection lobes from behind (`material::bsdf`).
+//! - A reflection (transmission) is only returned towards the side of the geometric normal where `wo` (not) lies,
+//!   whatever the shading normal says.
+//! - [`TransportMode`]: with `Radiance` (camera paths) refraction scales radiance by `1/eta^2`; with `Importance`
+//!   (photons, light paths) it does not, and every value is multiplied by Veach's shading-normal correction
+//!   `|wo.ns| |wi.ng| / (|wo.ng| |wi.ns|)` (the adjoint BSDF, so that the usual `f |wi.ns| / pdf` throughput is
+//!   right for particles; thesis section 5.3). `eval`, `pdf` and `sample` are the radiance versions.
+
+pub mod fresnel;
+mod lobe;
+pub mod microfacet;
+
+pub use lobe::{ConductorFresnel, Lobe, LobeSample};
+
+use crate::math::Frame;
+use glam::{Vec2, Vec3, Vec3A};
+
+/// Most lobes one BSDF holds (checked when a material is loaded).
+pub const MAX_LOBES: usize = 4;
+
+/// Which quantity a path carries (pbrt's and Mitsuba's `TransportMode`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum TransportMode {
+    /// Radiance along camera paths.
+    #[default]
+    Radiance,
+    /// Importance (or photon power) along light paths: the adjoint BSDF.
+    Importance,
+}
+
+/// A sampled direction and its throughput weight `f |cos| / pdf`.
+#[derive(Clone, Copy, Debug)]
+pub struct BsdfSample {
+    pub wi: Vec3A,
+    pub weight: Vec3,
+    /// Mixture pdf of the smooth lobes in solid angle (0 for delta samples).
+    pub pdf: f32,
+    pub delta: bool,
+}
+
+/// One branch of a delta lobe for Whitted recursion: direction, throughput, and the lobe's colour (`filter`,
+/// for the 6.837 `-weight` rule).
+#[derive(Clone, Copy, Debug)]
+pub struct DeltaBranch {
+    pub wi: Vec3A,
+    pub weight: Vec3,
+    pub filter: Vec3,
+}
+
+#[derive(Clone, Copy, Debug)]
+pub struct Bsdf {
+    /// Shading frame, normal facing `wo` (possibly perturbed by a normal or bump map).
+    frame: Frame,
+    /// Geometric normal facing `wo`.
+    ng: Vec3A,
+    wo: Vec3A,
+    /// `wo` in the shading frame.
+    wo_local: Vec3A,
+    lobes: [Lobe; MAX_LOBES],
+    /// Cumulative lobe selection probabilities.
+    cdf: [f32; MAX_LOBES],
+    len: usize,
+    smooth: bool,
+    ambient: Vec3,
+}
+
+impl Bsdf {
+    /// An empty BSDF (no lobes yet) seen from `wo`, with shading frame `frame` and geometric normal `ng`, both
+    /// facing `wo`. Add lobes with [`Bsdf::push`], then call [`Bsdf::finish`].
+    #[inline(always)]
+    pub fn new(frame: Frame, ng: Vec3A, wo: Vec3A) -> Self {
+        Bsdf {
+            frame,
+            ng,
+            wo,
+            wo_local: frame.to_local(wo),
+            lobes: [Lobe::Diffuse { albedo: Vec3::ZERO }; MAX_LOBES],
+            cdf: [0.0; MAX_LOBES],
+            len: 0,
+            smooth: false,
+            ambient: Vec3::ZERO,
+        }
+    }
+
+    /// A BSDF of the given lobes at a surface with normal `n` (shading = geometric) seen from `wo` (for tests and
+    /// tools; materials build theirs with [`Bsdf::new`] and [`Bsdf::push`]).
+    pub fn from_lobes(n: Vec3A, wo: Vec3A, lobes: &[Lobe]) -> Option<Self> {
+        let n = if wo.dot(n) < 0.0 { -n } else { n };
+        let mut b = Bsdf::new(Frame::from_normal(n), n, wo);
+        for l in lobes {
+            b.push(*l);
+        }
+        b.finish()
+    }
+
+    /// Add a lobe (merged into an equal one when possible; ignored beyond [`MAX_LOBES`]).
+    #[inline]
+    pub fn push(&mut self, lobe: Lobe) {
+        for l in &mut self.lobes[..self.len] {
+            if l.merge(&lobe) {
+                return;
+            }
+        }
+        if self.len < MAX_LOBES {
+            self.lobes[self.len] = lobe;
+            self.len += 1;
+        }
+    }
+
+    /// Add to the ambient reflectance (the Phong model's `ambient` times the scene's ambient radiance).
+    #[inline]
+    pub fn add_ambient(&mut self, a: Vec3) {
+        self.ambient += a;
+    }
+
+    /// Compute the lobe selection probabilities. `None` when nothing is reflected or transmitted and there is no
+    /// ambient term.
+    #[inline(always)]
+    pub fn finish(mut self) -> Option<Self> {
+        if self.prepare() { Some(self) } else { None }
+    }
+
+    /// [`Bsdf::finish`] in place: false when the BSDF is empty.
+    #[inline(always)]
+    pub fn prepare(&mut self) -> bool {
+        if self.len == 1 {
+            // The common case: one lobe, chosen always.
+            if self.lobes[0].selection_weight(self.wo_local) > 0.0 {
+                self.cdf[0] = 1.0;
+                self.smooth = !self.lobes[0].is_delta();
+                return true;
+            }
+            self.len = 0;
+            return self.ambient != Vec3::ZERO;
+        }
+        let mut total = 0.0;
+        let mut kept = 0;
+        for i in 0..self.len {
+            let w = self.lobes[i].selection_weight(self.wo_local);
+            if w > 0.0 {
+                self.lobes[kept] = self.lobes[i];
+                total += w;
+                self.cdf[kept] = total;
+                kept += 1;
+            }
+        }
+        self.len = kept;
+        if kept == 0 {
+            return self.ambient != Vec3::ZERO;
+        }
+        for c in &mut self.cdf[..kept] {
+            *c /= total;
+        }
+        self.cdf[kept - 1] = 1.0;
+        self.smooth = self.lobes[..kept].iter().any(|l| !l.is_delta());
+        true
+    }
+
+    /// Shading normal facing `wo`.
+    #[inline]
+    pub fn normal(&self) -> Vec3A {
+        self.frame.n
+    }
+
+    /// Geometric normal facing `wo`.
+    #[inline]
+    pub fn geometric_normal(&self) -> Vec3A {
+        self.ng
+    }
+
+    /// The lobes (selection order).
+    #[inline]
+    pub fn lobes(&self) -> &[Lobe] {
+        &self.lobes[..self.len]
+    }
+
+    /// Reflectance for the scene's ambient radiance (Phong model; 0 for physically based materials).
+    #[inline]
+    pub fn ambient(&self) -> Vec3 {
+        self.ambient
+    }
+
+    /// True when the BSDF has a smooth (non-delta) lobe that light sampling can illuminate.
+    #[inline]
+    pub fn has_smooth(&self) -> bool {
+        self.smooth
+    }
+
+    /// True when the BSDF has a delta lobe (mirror, smooth dielectric or conductor).
+    #[inline]
+    pub fn has_delta(&self) -> bool {
+        self.lobes().iter().any(Lobe::is_delta)
+    }
+
+    /// Probability that `sample` picks a smooth (non-delta) lobe: 1 for purely smooth materials, 0 for purely
+    /// specular ones.
+    #[inline]
+    pub fn smooth_probability(&self) -> f32 {
+        (0..self.len).filter(|&i| !self.lobes[i].is_delta()).map(|i| self.lobe_probability(i)).sum()
+    }
+
+    /// True when `sample(u_lobe, ..)` picks a delta lobe (the choice depends on `u_lobe` only).
+    #[inline]
+    pub fn picks_delta(&self, u_lobe: f32) -> bool {
+        if self.len == 0 {
+            return false;
+        }
+        let i = self.cdf[..self.len].iter().position(|&c| u_lobe < c).unwrap_or(self.len - 1);
+        self.lobes[i].is_delta()
+    }
+
+    /// Probability of choosing lobe `i`.
+    #[inline]
+    fn lobe_probability(&self, i: usize) -> f32 {
+        self.cdf[i] - if i == 0 { 0.0 } else { self.cdf[i - 1] }
+    }
+
+    /// True when a local direction and its world direction agree about the side of the surface.
+    #[inline]
+    fn consistent(&self, wi: Vec3A, wi_local: Vec3A) -> bool {
+        (wi_local.z > 0.0) == (wi.dot(self.ng) > 0.0) && wi_local.z != 0.0
+    }
+
+    /// Veach's shading-normal correction for importance transport (1 for radiance).
+    #[inline]
+    fn correction(&self, wi: Vec3A, mode: TransportMode) -> f32 {
+        if mode == TransportMode::Radiance {
+            return 1.0;
+        }
+        let num = self.wo_local.z.abs() * wi.dot(self.ng).abs();
+        let den = self.wo.dot(self.ng).abs() * self.frame.to_local(wi).z.abs();
+        if den > 0.0 { num / den } else { 0.0 }
+    }
+
+    /// The smooth part of the BSDF, `f(wo, wi)` (radiance); 0 where it does not scatter towards `wi`.
+    #[inline]
+    pub fn eval(&self, wi: Vec3A) -> Vec3 {
+        self.eval_mode(wi, TransportMode::Radiance)
+    }
+
+    /// `f(wo, wi)` for the given transport mode (see the module doc).
+    #[inline]
+    pub fn eval_mode(&self, wi: Vec3A, mode: TransportMode) -> Vec3 {
+        let wl = self.frame.to_local(wi);
+        if !self.smooth || !self.consistent(wi, wl) {
+            return Vec3::ZERO;
+        }
+        self.eval_local(wl, mode) * self.correction(wi, mode)
+    }
+
+    #[inline]
+    fn eval_local(&self, wl: Vec3A, mode: TransportMode) -> Vec3 {
+        if self.len == 1 {
+            return self.lobes[0].eval(self.wo_local, wl, mode);
+        }
+        let mut f = Vec3::ZERO;
+        for l in self.lobes() {
+            f += l.eval(self.wo_local, wl, mode);
+        }
+        f
+    }
+
+    /// Mixture pdf (solid angle) with which `sample` produces `wi` through a smooth lobe.
+    #[inline]
+    pub fn pdf(&self, wi: Vec3A) -> f32 {
+        let wl = self.frame.to_local(wi);
+        if !self.smooth || !self.consistent(wi, wl) {
+            return 0.0;
+        }
+        self.pdf_local(wl)
+    }
+
+    #[inline]
+    fn pdf_local(&self, wl: Vec3A) -> f32 {
+        if self.len == 1 {
+            return self.lobes[0].pdf(self.wo_local, wl);
+        }
+        let mut pdf = 0.0;
+        for (i, l) in self.lobes().iter().enumerate() {
+            if !l.is_delta() {
+                pdf += self.lobe_probability(i) * l.pdf(self.wo_local, wl);
+            }
+        }
+        pdf
+    }
+
+    /// Sample a direction (radiance): `u_lobe` picks the lobe (and is reused within it), `u` the direction.
+    #[inline]
+    pub fn sample(&self, u_lobe: f32, u: Vec2) -> Option<BsdfSample> {
+        self.sample_mode(u_lobe, u, TransportMode::Radiance)
+    }
+
+    /// Sample a direction for the given transport mode.
+    pub fn sample_mode(&self, u_lobe: f32, u: Vec2, mode: TransportMode) -> Option<BsdfSample> {
+        if self.len == 0 {
+            return None;
+        }
+        let i = self.cdf[..self.len].iter().position(|&c| u_lobe < c).unwrap_or(self.len - 1);
+        let p = self.lobe_probability(i);
+        let lo = if i == 0 { 0.0 } else { self.cdf[i - 1] };
+        let uc = if p > 0.0 { ((u_lobe - lo) / p).clamp(0.0, 0.99999994) } else { 0.5 };
+        let lobe = &self.lobes[i];
+        let s = lobe.sample(self.wo_local, uc, u, mode)?;
+        let wi = self.frame.to_world(s.wi);
+        if !self.consistent(wi, s.wi) {
+            return None;
+        }
+        if lobe.is_delta() {
+            let weight = s.weight * (self.correction(wi, mode) / p);
+            return Some(BsdfSample { wi, weight, pdf: 0.0, delta: true });
+        }
+        let pdf = self.pdf_local(s.wi);
+        if pdf <= 0.0 || !pdf.is_finite() {
+            return None;
+        }
+        let f = self.eval_local(s.wi, mode);
+        let weight = f * (s.wi.z.abs() * self.correction(wi, mode) / pdf);
+        if !weight.is_finite() {
+            return None;
+        }
+        Some(BsdfSample { wi, weight, pdf, delta: false })
+    }
+
+    /// Every branch of the delta lobes, in lobe order (radiance): mirror reflection, Fresnel reflection and
+    /// refraction of smooth dielectrics (`1/eta^2` included), the course's refraction, smooth conductors. Whitted
+    /// ray tracing follows each one deterministically.
+    pub fn delta_branches(&self, mut f: impl FnMut(DeltaBranch)) {
+        for l in self.lobes() {
+            if !l.is_delta() {
+                continue;
+            }
+            l.delta_branches(self.wo_local, |wl, weight, filter| {
+                let wi = self.frame.to_world(wl).normalize();
+                if self.consistent(wi, wl) {
+                    f(DeltaBranch { wi, weight, filter });
+                }
+            });
+        }
+    }
+}

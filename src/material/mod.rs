@@ -1,0 +1,258 @@
+//! Materials: what a surface is made of, with parameters that are constants or textures ([`ColorParam`],
+//! [`ScalarParam`]). A material is resolved at every hit into a [`crate::bsdf::Bsdf`] by [`bsdf`] (lobes with
+//! their textures looked up, blend weights applied, the shading frame perturbed by normal or bump maps); no
+//! integrator reads material fields.
+//!
+//! Kinds (physically based units; a diffuse coefficient is an albedo, BRDF = kd / pi):
+//! - `Phong`: Lambert + energy-normalised Phong lobe + ideal mirror + smooth Fresnel dielectric (Lambert, Phong,
+//!   Mirror and Glass of the scene format), or the 6.837 course's shading (`Shading::Mit6837`: Blinn-Phong without
+//!   normalisation, refraction without Fresnel), with an ambient reflectance for the scene's ambient light;
+//! - `Conductor`: GGX rough metal (complex IOR per RGB channel, or a reflectance colour through Schlick); alpha 0
+//!   is a smooth metal;
+//! - `Dielectric`: GGX rough glass (reflection + transmission, Walter et al. 2007); alpha 0 is smooth glass;
+//! - `Plastic`: a diffuse base under a GGX dielectric coat;
+//! - `Blend`: `(1 - w) a + w b` for a scalar weight `w` in [0, 1] (constant or texture: 6.837 checkerboard, noise,
+//!   marble and wood; glTF's metallic factor);
+//! - `NormalMap`, `Bump`: a base material with its shading normal perturbed by a tangent-space normal map or by the
+//!   gradient of a height texture. They wrap the outermost material (one shading frame per BSDF).
+
+pub mod metals;
+mod normal_map;
+mod resolve;
+
+pub use normal_map::{bump_normal, normal_map_normal, tangent_frame};
+pub use resolve::bsdf;
+
+use crate::bsdf::MAX_LOBES;
+use crate::texture::{ColorParam, ScalarParam};
+
+use glam::Vec3;
+
+/// How a Phong-family material's terms are evaluated.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Shading {
+    /// Energy-normalised Phong lobe, Fresnel-weighted dielectric.
+    #[default]
+    Physical,
+    /// The 6.837 course's conventions, for its scenes: radiance `kd c cos + ks (n.h)^e c` per light of colour `c`
+    /// (Blinn-Phong half vector, no normalisation, no cosine on the specular term), mirror and refraction without
+    /// Fresnel (refracted radiance is `transparent` times the radiance behind, nothing under total internal
+    /// reflection).
+    Mit6837,
+}
+
+/// The Phong family: Lambert, Phong, Mirror, Glass and the 6.837 course's material are special cases.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PhongParams {
+    /// Reflectance for the scene's ambient radiance (0 for physically based scenes).
+    pub ambient: ColorParam,
+    /// Lambertian albedo.
+    pub diffuse: ColorParam,
+    /// Phong specular reflectance.
+    pub specular: ColorParam,
+    /// Phong exponent.
+    pub exponent: ScalarParam,
+    /// Ideal mirror reflectance (no Fresnel).
+    pub reflective: ColorParam,
+    /// Smooth dielectric transmittance filter (reflection/refraction weighted by Fresnel).
+    pub transparent: ColorParam,
+    /// Index of refraction of the inside (the side opposite the geometric normal).
+    pub ior: f32,
+    pub shading: Shading,
+}
+
+impl Default for PhongParams {
+    /// Black: every term 0, exponent 1, ior 1.5.
+    fn default() -> Self {
+        PhongParams {
+            ambient: ColorParam::ZERO,
+            diffuse: ColorParam::ZERO,
+            specular: ColorParam::ZERO,
+            exponent: ScalarParam::Const(1.0),
+            reflective: ColorParam::ZERO,
+            transparent: ColorParam::ZERO,
+            ior: 1.5,
+            shading: Shading::Physical,
+        }
+    }
+}
+
+/// A conductor's Fresnel term as the material states it.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ConductorSpec {
+    /// Complex index of refraction per RGB channel.
+    Complex { eta: Vec3, k: Vec3 },
+    /// Reflectance at normal incidence (Schlick's approximation), may be textured.
+    Schlick(ColorParam),
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum MaterialKind {
+    Phong(PhongParams),
+    /// GGX conductor; `scale` multiplies the reflectance (Mitsuba's `specular_reflectance`).
+    Conductor {
+        alpha: ScalarParam,
+        fresnel: ConductorSpec,
+        scale: ColorParam,
+    },
+    /// GGX dielectric with index `ior` inside; reflection and transmission filters.
+    Dielectric {
+        alpha: ScalarParam,
+        ior: f32,
+        reflectance: ColorParam,
+        transmittance: ColorParam,
+    },
+    /// Diffuse base under a GGX dielectric coat of index `ior`; `fdr_int` is the coat's internal diffuse
+    /// Fresnel reflectance (computed from `ior`).
+    Plastic {
+        alpha: ScalarParam,
+        ior: f32,
+        diffuse: ColorParam,
+        specular: ColorParam,
+        fdr_int: f32,
+    },
+    /// `(1 - weight) a + weight b`, materials by index.
+    Blend {
+        a: u32,
+        b: u32,
+        weight: ScalarParam,
+    },
+    /// Material `base` with a tangent-space normal map (texture index): `n = normalize(2 c - 1)` with x, y scaled
+    /// by `strength` (and y negated by `flip_green`).
+    NormalMap {
+        base: u32,
+        texture: u32,
+        strength: f32,
+        flip_green: bool,
+    },
+    /// Material `base` with a height texture: the surface displaced by `height` along its normal.
+    Bump {
+        base: u32,
+        height: ScalarParam,
+    },
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Material {
+    pub name: String,
+    pub kind: MaterialKind,
+    /// Shade both faces (the shading frame is flipped towards the viewer). One-sided materials reflect nothing
+    /// from behind (dielectrics always see both sides).
+    pub two_sided: bool,
+}
+
+impl Default for Material {
+    /// The material of entities that name none: grey Lambert, albedo 0.5.
+    fn default() -> Self {
+        Material::lambert("default", Vec3::splat(0.5))
+    }
+}
+
+impl Material {
+    /// A Phong-family material.
+    pub fn phong(name: &str, p: PhongParams) -> Self {
+        Material { name: name.to_string(), kind: MaterialKind::Phong(p), two_sided: true }
+    }
+
+    /// Black (emitters' material).
+    pub fn black(name: &str) -> Self {
+        Material::phong(name, PhongParams::default())
+    }
+
+    pub fn lambert(name: &str, albedo: Vec3) -> Self {
+        Material::phong(name, PhongParams { diffuse: ColorParam::Const(albedo), ..PhongParams::default() })
+    }
+
+    /// The Phong parameters, for Phong-family materials.
+    pub fn phong_params(&self) -> Option<&PhongParams> {
+        match &self.kind {
+            MaterialKind::Phong(p) => Some(p),
+            _ => None,
+        }
+    }
+
+    /// Materials this one refers to (blend components, wrapped base).
+    pub fn children(&self) -> Vec<u32> {
+        match &self.kind {
+            MaterialKind::Blend { a, b, .. } => vec![*a, *b],
+            MaterialKind::NormalMap { base, .. } | MaterialKind::Bump { base, .. } => vec![*base],
+            _ => vec![],
+        }
+    }
+
+    /// True when the material's BSDF needs mesh tangents (a normal map at its top).
+    pub fn needs_tangents(&self) -> bool {
+        matches!(self.kind, MaterialKind::NormalMap { .. })
+    }
+}
+
+/// Check a material table: references in range and acyclic, normal/bump maps only at the top of a material (not
+/// inside a blend or another map), at most [`MAX_LOBES`] lobes per BSDF once equal lobes are merged. Errors name
+/// the material.
+pub fn validate(materials: &[Material]) -> Result<(), String> {
+    for (i, m) in materials.iter().enumerate() {
+        let mut keys = Vec::new();
+        lobe_keys(materials, i as u32, 0, true, &mut keys)?;
+        keys.sort();
+        keys.dedup();
+        if keys.len() > MAX_LOBES {
+            return Err(format!(
+                "material '{}': its blends add up to {} different lobes, more than the {MAX_LOBES} one BSDF holds",
+                m.name,
+                keys.len()
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// The lobes a material can produce, as keys: lobes with equal keys merge into one at run time (same kind and
+/// equal constant non-linear parameters; a textured exponent or roughness never merges).
+fn lobe_keys(ms: &[Material], id: u32, depth: usize, top: bool, out: &mut Vec<String>) -> Result<(), String> {
+    let m = ms.get(id as usize).ok_or_else(|| format!("material index {id} out of range"))?;
+    if depth > ms.len() {
+        return Err(format!("material '{}' refers to itself (through blends or maps)", m.name));
+    }
+    // Textured parameters never merge: a key no other lobe has.
+    let unique = format!("unique {id} {depth} {}", out.len());
+    let scalar = |p: &ScalarParam| p.constant().map_or_else(|| unique.clone(), |c| c.to_bits().to_string());
+    match &m.kind {
+        MaterialKind::Phong(p) => {
+            if !p.diffuse.is_zero() {
+                out.push("diffuse".into());
+            }
+            if !p.specular.is_zero() {
+                out.push(format!("specular {:?} {}", p.shading, scalar(&p.exponent)));
+            }
+            if !p.reflective.is_zero() {
+                out.push("mirror".into());
+            }
+            if !p.transparent.is_zero() {
+                out.push(format!("dielectric {:?} {}", p.shading, p.ior.to_bits()));
+            }
+        }
+        MaterialKind::Conductor { alpha, fresnel, .. } => {
+            let f = match fresnel {
+                ConductorSpec::Complex { eta, k } => format!("{eta:?} {k:?}"),
+                ConductorSpec::Schlick(c) => c.constant().map_or_else(|| unique.clone(), |c| format!("{c:?}")),
+            };
+            out.push(format!("conductor {} {f}", scalar(alpha)));
+        }
+        MaterialKind::Dielectric { .. } | MaterialKind::Plastic { .. } => out.push(unique.clone()),
+        MaterialKind::Blend { a, b, .. } => {
+            lobe_keys(ms, *a, depth + 1, false, out)?;
+            lobe_keys(ms, *b, depth + 1, false, out)?;
+        }
+        MaterialKind::NormalMap { base, .. } | MaterialKind::Bump { base, .. } => {
+            if !top {
+                return Err(format!(
+                    "material '{}': a normal or bump map must wrap the outermost material (not be inside a blend or \
+                     another map)",
+                    m.name
+                ));
+            }
+            lobe_keys(ms, *base, depth + 1, false, out)?;
+        }
+    }
+    Ok(())
+}

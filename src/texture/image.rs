@@ -1,0 +1,192 @@
+//! Image textures: a decoded image (PNG, JPEG, Radiance HDR or OpenEXR) as linear f32 RGB texels, and its lookup
+//! with the conventions of Mitsuba 3's `bitmap` texture (`../shared/refs/textured.md`):
+//!
+//! - texel (row r, column c) of a W x H image, row 0 being the image's first (top) row, has its centre at
+//!   `(u, v) = ((c + 0.5) / W, (r + 0.5) / H)`: v grows downwards in the picture and nothing is flipped;
+//! - bilinear: `x = u W - 0.5`, `y = v H - 0.5`, weights `fx = x - floor(x)`, `fy = y - floor(y)` on the four
+//!   texels around, each index wrapped by the wrap mode (`repeat`: modulo the size; `clamp`: to the edge texel;
+//!   `mirror`: reflected at every edge, period 2W);
+//! - 8-bit and 16-bit colour images are decoded from sRGB to linear texel by texel BEFORE interpolation; data
+//!   images (`raw`: normal, roughness or height maps) keep `byte / 255`; HDR and EXR texels are linear already.
+//!
+//! A uv transform `uv' = uv * scale + offset` is applied before the lookup. Images are decoded once per (file,
+//! raw) and shared between the textures and materials that use them.
+
+use crate::error::{PrismError, Result};
+use crate::io::srgb_to_linear;
+use glam::{Vec2, Vec3};
+use serde::Deserialize;
+use std::path::Path;
+
+/// Largest width or height accepted (a guard against absurd headers).
+pub const MAX_TEXTURE_SIZE: u32 = 16384;
+
+/// How texel indices outside the image are brought back into it.
+#[derive(Deserialize, Debug, Clone, Copy, Default, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum Wrap {
+    /// Tile the image (index modulo the size).
+    #[default]
+    Repeat,
+    /// Use the edge texel.
+    Clamp,
+    /// Tile with every other copy mirrored (period twice the size).
+    Mirror,
+}
+
+impl Wrap {
+    /// Index `i` wrapped into `[0, n)`.
+    #[inline]
+    pub fn index(self, i: i64, n: u32) -> usize {
+        let n = n as i64;
+        (match self {
+            Wrap::Repeat => i.rem_euclid(n),
+            Wrap::Clamp => i.clamp(0, n - 1),
+            Wrap::Mirror => {
+                let m = i.rem_euclid(2 * n);
+                if m < n { m } else { 2 * n - 1 - m }
+            }
+        }) as usize
+    }
+}
+
+/// A decoded image: linear RGB texels, row 0 at the top.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TexImage {
+    pub width: u32,
+    pub height: u32,
+    pub texels: Vec<Vec3>,
+    /// The file had one (grey) channel: every texel has r = g = b.
+    pub gray: bool,
+}
+
+impl TexImage {
+    /// An image from texels given row by row from the top (for procedurally made textures and tests).
+    pub fn from_texels(width: u32, height: u32, texels: Vec<Vec3>) -> Result<Self> {
+        if width == 0 || height == 0 || texels.len() != width as usize * height as usize {
+            return Err(PrismError::invalid(format!(
+                "texture image {width}x{height} needs {} texels, got {}",
+                width as usize * height as usize,
+                texels.len()
+            )));
+        }
+        Ok(TexImage { width, height, texels, gray: false })
+    }
+
+    /// Read an image file. `raw`: keep 8/16-bit values as stored (data maps); otherwise decode them from sRGB.
+    pub fn load(path: &Path, raw: bool) -> Result<Self> {
+        if !path.is_file() {
+            return Err(PrismError::io(
+                path,
+                std::io::Error::new(std::io::ErrorKind::NotFound, "texture file not found"),
+            ));
+        }
+        let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
+        let img = if ext == "exr" {
+            let im = crate::io::read_exr(path)?;
+            TexImage { width: im.width, height: im.height, texels: im.pixels, gray: false }
+        } else {
+            Self::decode(path, raw)?
+        };
+        if img.width == 0 || img.height == 0 || img.texels.len() != img.width as usize * img.height as usize {
+            return Err(PrismError::format(path, format!("texture has no pixels ({}x{})", img.width, img.height)));
+        }
+        if img.width > MAX_TEXTURE_SIZE || img.height > MAX_TEXTURE_SIZE {
+            return Err(PrismError::format(
+                path,
+                format!("texture is {}x{}, larger than {MAX_TEXTURE_SIZE} on a side", img.width, img.height),
+            ));
+        }
+        if let Some(i) = img.texels.iter().position(|t| !t.is_finite()) {
+            return Err(PrismError::format(
+                path,
+                format!("texel (row {}, column {}) is NaN or infinite", i as u32 / img.width, i as u32 % img.width),
+            ));
+        }
+        Ok(img)
+    }
+
+    /// PNG, JPEG or Radiance HDR through the image crate.
+    fn decode(path: &Path, raw: bool) -> Result<Self> {
+        let mut reader = image::ImageReader::open(path)
+            .map_err(|e| PrismError::io(path, e))?
+            .with_guessed_format()
+            .map_err(|e| PrismError::io(path, e))?;
+        let mut limits = image::Limits::default();
+        limits.max_image_width = Some(MAX_TEXTURE_SIZE);
+        limits.max_image_height = Some(MAX_TEXTURE_SIZE);
+        reader.limits(limits);
+        let dynimg =
+            reader.decode().map_err(|e| PrismError::format(path, format!("cannot decode texture image: {e}")))?;
+        use image::ColorType as C;
+        let color = dynimg.color();
+        let gray = matches!(color, C::L8 | C::La8 | C::L16 | C::La16);
+        let float = matches!(color, C::Rgb32F | C::Rgba32F);
+        let (w, h) = (dynimg.width(), dynimg.height());
+        let texels: Vec<Vec3> = if float {
+            dynimg.into_rgb32f().pixels().map(|p| Vec3::new(p[0], p[1], p[2])).collect()
+        } else if matches!(color, C::L16 | C::La16 | C::Rgb16 | C::Rgba16) {
+            let dec = |v: u16| {
+                let c = v as f32 / 65535.0;
+                if raw { c } else { srgb_to_linear(c) }
+            };
+            dynimg.into_rgb16().pixels().map(|p| Vec3::new(dec(p[0]), dec(p[1]), dec(p[2]))).collect()
+        } else {
+            // A table of the 256 decoded byte values: exact, and fast for large images.
+            let table: Vec<f32> = (0..256u32)
+                .map(|b| {
+                    let c = b as f32 / 255.0;
+                    if raw { c } else { srgb_to_linear(c) }
+                })
+                .collect();
+            dynimg
+                .into_rgb8()
+                .pixels()
+                .map(|p| Vec3::new(table[p[0] as usize], table[p[1] as usize], table[p[2] as usize]))
+                .collect()
+        };
+        Ok(TexImage { width: w, height: h, texels, gray })
+    }
+
+    #[inline]
+    fn texel(&self, row: usize, col: usize) -> Vec3 {
+        self.texels[row * self.width as usize + col]
+    }
+
+    /// Bilinear lookup at `uv` (texel centres at half-integers, v downwards), indices wrapped by `wrap`.
+    #[inline]
+    pub fn bilinear(&self, uv: Vec2, wrap: Wrap) -> Vec3 {
+        let x = uv.x * self.width as f32 - 0.5;
+        let y = uv.y * self.height as f32 - 0.5;
+        if !(x.is_finite() && y.is_finite()) {
+            return Vec3::ZERO;
+        }
+        let (x0, y0) = (x.floor(), y.floor());
+        let (fx, fy) = (x - x0, y - y0);
+        // Far-away uvs lose their fraction in f32; clamp the integer part so the i64 conversion stays exact.
+        let (x0, y0) = (x0.clamp(-1e9, 1e9) as i64, y0.clamp(-1e9, 1e9) as i64);
+        let (c0, c1) = (wrap.index(x0, self.width), wrap.index(x0 + 1, self.width));
+        let (r0, r1) = (wrap.index(y0, self.height), wrap.index(y0 + 1, self.height));
+        (1.0 - fx) * (1.0 - fy) * self.texel(r0, c0)
+            + fx * (1.0 - fy) * self.texel(r0, c1)
+            + (1.0 - fx) * fy * self.texel(r1, c0)
+            + fx * fy * self.texel(r1, c1)
+    }
+}
+
+/// An image used as a texture: the shared image, its wrap mode and uv transform.
+#[derive(Clone, Debug)]
+pub struct ImageMap {
+    pub image: std::sync::Arc<TexImage>,
+    pub wrap: Wrap,
+    /// `uv' = uv * uv_scale + uv_offset`.
+    pub uv_scale: Vec2,
+    pub uv_offset: Vec2,
+}
+
+impl ImageMap {
+    #[inline]
+    pub fn eval(&self, uv: Vec2) -> Vec3 {
+        self.image.bilinear(uv * self.uv_scale + self.uv_offset, self.wrap)
+    }
+}

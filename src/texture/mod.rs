@@ -1,0 +1,159 @@
+//! Textures: values of material parameters that vary over a surface. A parameter is a [`ColorParam`] or a
+//! [`ScalarParam`]: a constant, or a texture of the scene's [`TextureSet`] times a constant factor. Textures are
+//! image maps (looked up at the hit's uv, [`image`]) and solid 6.837 textures (evaluated at the world-space hit
+//! point, [`solid`]); evaluation is an enum match, no dynamic dispatch.
+//!
+//! Colour parameters take the RGB of an image (a grey image gives grey); scalar parameters take one channel of an
+//! image (`R`, `G`, `B` or `Mean`; grey images need none) or a solid texture's value.
+
+mod image;
+pub mod perlin;
+mod solid;
+
+pub use image::{ImageMap, MAX_TEXTURE_SIZE, TexImage, Wrap};
+pub use solid::{Solid, SolidKind};
+
+use glam::{Vec2, Vec3, Vec3A};
+
+/// Where a texture is looked up: the surface's uv and its world-space position.
+#[derive(Clone, Copy, Debug)]
+pub struct TexPoint {
+    pub uv: Vec2,
+    pub p: Vec3A,
+}
+
+/// One channel of an image, for scalar parameters.
+#[derive(serde::Deserialize, Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Channel {
+    #[default]
+    R,
+    G,
+    B,
+    /// (R + G + B) / 3.
+    Mean,
+}
+
+impl Channel {
+    #[inline]
+    fn of(self, c: Vec3) -> f32 {
+        match self {
+            Channel::R => c.x,
+            Channel::G => c.y,
+            Channel::B => c.z,
+            Channel::Mean => (c.x + c.y + c.z) * (1.0 / 3.0),
+        }
+    }
+}
+
+/// A colour parameter: a constant, or `scale` times texture `tex`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ColorParam {
+    Const(Vec3),
+    Map { tex: u32, scale: Vec3 },
+}
+
+impl ColorParam {
+    pub const ZERO: ColorParam = ColorParam::Const(Vec3::ZERO);
+    pub const ONE: ColorParam = ColorParam::Const(Vec3::ONE);
+
+    /// True for the constant 0 (a lobe with this colour can be left out).
+    #[inline]
+    pub fn is_zero(&self) -> bool {
+        matches!(self, ColorParam::Const(c) if *c == Vec3::ZERO)
+    }
+
+    /// The constant, if it is one.
+    #[inline]
+    pub fn constant(&self) -> Option<Vec3> {
+        match self {
+            ColorParam::Const(c) => Some(*c),
+            ColorParam::Map { .. } => None,
+        }
+    }
+}
+
+/// A scalar parameter: a constant, or `scale` times a channel of texture `tex`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ScalarParam {
+    Const(f32),
+    Map { tex: u32, channel: Channel, scale: f32 },
+}
+
+impl ScalarParam {
+    /// The constant, if it is one.
+    #[inline]
+    pub fn constant(&self) -> Option<f32> {
+        match self {
+            ScalarParam::Const(c) => Some(*c),
+            ScalarParam::Map { .. } => None,
+        }
+    }
+}
+
+/// A texture of the scene.
+#[derive(Clone, Debug)]
+pub enum Texture {
+    Image(ImageMap),
+    Solid(Solid),
+}
+
+impl Texture {
+    /// True when the texture has one value per point (a solid texture or a grey image).
+    pub fn is_scalar(&self) -> bool {
+        match self {
+            Texture::Image(m) => m.image.gray,
+            Texture::Solid(_) => true,
+        }
+    }
+
+    /// True for textures that only make scalars (solid textures): they cannot be colours.
+    pub fn scalar_only(&self) -> bool {
+        matches!(self, Texture::Solid(_))
+    }
+
+    #[inline]
+    fn rgb(&self, at: &TexPoint) -> Vec3 {
+        match self {
+            Texture::Image(m) => m.eval(at.uv),
+            Texture::Solid(s) => Vec3::splat(s.eval(at.p)),
+        }
+    }
+}
+
+/// The scene's textures, shared by all materials (images are shared between textures through `Arc`).
+#[derive(Clone, Debug, Default)]
+pub struct TextureSet {
+    pub textures: Vec<Texture>,
+}
+
+impl TextureSet {
+    pub fn add(&mut self, t: Texture) -> u32 {
+        self.textures.push(t);
+        self.textures.len() as u32 - 1
+    }
+
+    pub fn get(&self, id: u32) -> &Texture {
+        &self.textures[id as usize]
+    }
+
+    /// The value of a colour parameter at a point.
+    #[inline]
+    pub fn color(&self, p: &ColorParam, at: &TexPoint) -> Vec3 {
+        match p {
+            ColorParam::Const(c) => *c,
+            ColorParam::Map { tex, scale } => *scale * self.textures[*tex as usize].rgb(at),
+        }
+    }
+
+    /// The value of a scalar parameter at a point.
+    #[inline]
+    pub fn scalar(&self, p: &ScalarParam, at: &TexPoint) -> f32 {
+        match p {
+            ScalarParam::Const(c) => *c,
+            ScalarParam::Map { tex, channel, scale } => match &self.textures[*tex as usize] {
+                Texture::Image(m) => *scale * channel.of(m.eval(at.uv)),
+                Texture::Solid(s) => *scale * s.eval(at.p),
+            },
+        }
+    }
+}
