@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Prism's BVH against Embree on the same rays: closest-hit and occlusion throughput, one thread each.
 
-Command (from the repository root; the full measurement, about 2 minutes on an idle 2-core machine):
+Command (from the repository root; the full measurement, about 3 minutes on an idle 2-core machine):
 
     python3 benches/embree/embree_compare.py --rounds 5 --seconds 1
 

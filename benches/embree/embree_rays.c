@@ -2,7 +2,7 @@
  * thread, on the ray sets `prism bench --export-rays DIR` writes (DIR/SCENE.prism-rays; layout in Prism's
  * src/accel/ray_file.rs), and check Embree's answers against Prism's.
  *
- *   embree_rays FILE.prism-rays [--seconds S] [--robust]
+ *   embree_rays FILE.prism-rays [--seconds S] [--robust] [--verbose]
  *
  * Build (benches/embree/embree_compare.py does this): gcc -O2 -o embree_rays embree_rays.c -lembree3 (or -lembree4
  * with -DEMBREE4 and <embree4/rtcore.h>).
@@ -16,7 +16,8 @@
  *   {"embree": "3.13.5", "tris": T, "build_ms": ..., "sets": [{"kind": "camera", "rays": N, "best_s": ...,
  *    "mrays": ..., "agree": ..., "checked": ...}, ...]}
  * "agree" counts the rays on which Embree and Prism give the same answer: both miss, or both hit with the same
- * primitive or |t - t_prism| <= 1e-4 t (closest hit); the same occlusion answer (shadow rays).
+ * primitive or |t - t_prism| <= 1e-4 t (closest hit); the same occlusion answer (shadow rays). --verbose prints
+ * the first disagreements.
  */
 #ifdef EMBREE4
 #include <embree4/rtcore.h>
@@ -126,21 +127,23 @@ static double pass(RTCScene scene, const Ray7 *rays, uint32_t n, int shadow, uin
 int main(int argc, char **argv) {
     const char *path = NULL;
     double seconds = 0.5;
-    int robust = 0;
+    int robust = 0, verbose = 0;
     for (int i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--seconds") && i + 1 < argc) {
             seconds = atof(argv[++i]);
         } else if (!strcmp(argv[i], "--robust")) {
             robust = 1;
+        } else if (!strcmp(argv[i], "--verbose")) {
+            verbose = 1;
         } else if (argv[i][0] != '-' && !path) {
             path = argv[i];
         } else {
-            fprintf(stderr, "usage: embree_rays FILE.prism-rays [--seconds S] [--robust]\n");
+            fprintf(stderr, "usage: embree_rays FILE.prism-rays [--seconds S] [--robust] [--verbose]\n");
             return 2;
         }
     }
     if (!path || !(seconds > 0.0)) {
-        fprintf(stderr, "usage: embree_rays FILE.prism-rays [--seconds S] [--robust]\n");
+        fprintf(stderr, "usage: embree_rays FILE.prism-rays [--seconds S] [--robust] [--verbose]\n");
         return 2;
     }
 
@@ -198,13 +201,20 @@ int main(int argc, char **argv) {
             uint32_t prim = rd_u32(p);
             float tp = rd_f32(p + 4), t;
             uint32_t e = closest(scene, &sets[s][i], &t);
-            if (prim == UINT32_MAX || e == UINT32_MAX)
-                agree[s] += (prim == e);
-            else
-                agree[s] += (prim == e || fabsf(t - tp) <= 1e-4f * tp);
+            int same = (prim == UINT32_MAX || e == UINT32_MAX) ? prim == e : (prim == e || fabsf(t - tp) <= 1e-4f * tp);
+            agree[s] += same;
+            if (!same && verbose)
+                fprintf(stderr, "set %d ray %llu: Prism prim %d t %g, Embree prim %d t %g\n", s, (unsigned long long)i,
+                        (int)prim, tp, (int)e, t);
         }
     }
-    for (uint64_t i = 0; i < ns; i++, p += 4) agree[2] += ((rd_u32(p) != 0) == occluded(scene, &sets[2][i]));
+    for (uint64_t i = 0; i < ns; i++, p += 4) {
+        int po = rd_u32(p) != 0, eo = occluded(scene, &sets[2][i]);
+        agree[2] += po == eo;
+        if (po != eo && verbose)
+            fprintf(stderr, "shadow ray %llu (tmax %g): Prism %s, Embree %s\n", (unsigned long long)i, sets[2][i].tmax,
+                    po ? "occluded" : "clear", eo ? "occluded" : "clear");
+    }
 
     /* Interleaved timing: best pass per set. */
     double best[3] = {INFINITY, INFINITY, INFINITY}, spent[3] = {0, 0, 0};

@@ -1,11 +1,11 @@
 #!/usr/bin/env python3
 """Prism against Mitsuba 3 at equal error: side by side, interleaved, on the scenes of ../shared/refs/.
 
-The full measurement (run it on a quiet machine; about 25 minutes for the default scenes that Prism has):
+The full measurement (run it on a quiet machine; about 10 minutes per Cornell-sized scene):
 
     python3 benches/peer/mitsuba_compare.py --spp 16,64,256 --reps 3
 
-A quick check that everything works (about 2 minutes after the one-time set-up):
+A quick check that everything works (under a minute after the one-time set-up):
 
     python3 benches/peer/mitsuba_compare.py --scenes cornell --spp 4,16 --reps 1 --prism-extra-spp ''
 
