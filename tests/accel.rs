@@ -529,3 +529,56 @@ fn prism_bench_prints_the_table_and_writes_the_chart() {
     let svg = std::fs::read_to_string(&chart).unwrap();
     assert!(svg.starts_with("<svg") && svg.contains("kdtree camera"), "{svg}");
 }
+
+/// `prism bench --export-rays` writes exactly the rays `prism bench` traces (regenerated here from the scene) with
+/// the same triangles and, for every ray, the closest hit and occlusion answer of brute force: what another engine
+/// timed on the file (`benches/embree/`) is checked against. Scenes with spheres are refused with one line, and a
+/// truncated file is refused on reading.
+#[test]
+fn prism_bench_exports_its_rays_and_brute_force_answers() {
+    use prism::accel::ray_file::{MISS, RaySetFile};
+    let dir = crate::common::scratch("export-rays");
+    let scene_path = data("mit6837/assignment5/bunny_200.obj");
+    let args = ["bench", scene_path.to_str().unwrap(), "--accel", "bvh", "--seconds", "0.01", "--size", "24"];
+    let o = crate::common::prism(&[&args[..], &["--export-rays", dir.to_str().unwrap()]].concat());
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let file = RaySetFile::read(&dir.join("bunny_200.prism-rays")).unwrap();
+    assert!(!dir.join("bunny_200.prism-rays.partial").exists());
+    let app = setup_file(&scene_path, AccelKind::Brute);
+    let truth = scene(&app);
+    assert_eq!(file.tris, truth.prims.tris);
+    let camera = camera_rays(truth, 24, 24);
+    let (bounce, shadow) = secondary_rays(truth, &camera, 1);
+    let same = |a: &[Ray], b: &[Ray]| {
+        a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x.origin == y.origin && x.dir == y.dir && x.tmax == y.tmax)
+    };
+    assert!(same(&file.sets[0], &camera) && same(&file.sets[1], &bounce) && same(&file.sets[2], &shadow));
+    assert!(file.sets.iter().all(|s| !s.is_empty()), "every set has rays");
+    let mut hits = 0;
+    for (set, answers) in file.sets[..2].iter().zip(&file.hits) {
+        for (r, &(prim, t)) in set.iter().zip(answers) {
+            match truth.accel.intersect(&truth.prims, r) {
+                Some(h) => {
+                    assert!((h.t - t).abs() <= 1e-5 * h.t && (h.prim == prim || h.t == t), "{h:?} vs {prim} {t}");
+                    hits += 1;
+                }
+                None => assert!(prim == MISS && t == f32::INFINITY),
+            }
+        }
+    }
+    let total = file.sets[0].len() + file.sets[1].len();
+    assert!(hits > 50 && hits < total, "both hits and misses are checked: {hits} of {total}");
+    for (r, &o) in file.sets[2].iter().zip(&file.occluded) {
+        assert_eq!(truth.accel.occluded(&truth.prims, r), o);
+    }
+    // Refusals.
+    let sphere = dir.join("sphere.ron");
+    std::fs::write(&sphere, "(camera: (), entities: [(shape: Sphere())])").unwrap();
+    let o = crate::common::prism(&["bench", sphere.to_str().unwrap(), "--export-rays", dir.to_str().unwrap()]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success() && err.contains("only triangle scenes") && err.trim().lines().count() == 1, "{err}");
+    let bytes = std::fs::read(dir.join("bunny_200.prism-rays")).unwrap();
+    std::fs::write(dir.join("short.prism-rays"), &bytes[..bytes.len() - 4]).unwrap();
+    let e = RaySetFile::read(&dir.join("short.prism-rays")).unwrap_err().to_string();
+    assert!(e.contains("short.prism-rays") && e.contains("does not match its header"), "{e}");
+}

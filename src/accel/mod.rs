@@ -20,6 +20,7 @@ pub mod grid;
 pub mod kdtree;
 mod kdtree_build;
 mod mailbox;
+pub mod ray_file;
 pub mod ray_sets;
 mod tri_box;
 mod triangle_clip;

@@ -1,4 +1,5 @@
-//! `prism bench SCENE... [--accel all|bvh,kdtree,...] [--grid NX NY NZ] [--size N] [--threads N] [--chart F.svg]`:
+//! `prism bench SCENE... [--accel all|bvh,kdtree,...] [--grid NX NY NZ] [--size N] [--threads N] [--chart F.svg]
+//! [--export-rays DIR]`:
 //! for each scene and accelerator, the build time, the structure's memory and node/cell count, and closest-hit
 //! throughput (Mrays/s) for camera rays and for secondary (diffuse bounce) rays, plus occlusion throughput for
 //! shadow rays (`accel/ray_sets.rs`). Prints a Markdown table; `--chart` writes an SVG of Mrays/s against the
@@ -7,9 +8,12 @@
 //! in `--seconds / 2`. Traversal is timed interleaved: round after round, every accelerator traces every ray set
 //! once, until each (accelerator, ray set) has had about `--seconds`; each number is the fastest pass. A machine
 //! whose speed drifts (other jobs, frequency changes) then slows every accelerator alike, so the ratios between
-//! accelerators of one scene are measured in the same run.
+//! accelerators of one scene are measured in the same run. `--export-rays DIR` also writes each scene's triangles,
+//! ray sets and BVH answers to `DIR/STEM.prism-rays` (`accel/ray_file.rs`), for timing another engine on the same
+//! rays (`benches/embree/`).
 
 use crate::accel::Accel;
+use crate::accel::ray_file::RaySetFile;
 use crate::accel::ray_sets::{camera_rays, secondary_rays};
 use crate::app::{App, SceneSource};
 use crate::chart::{Chart, Series};
@@ -49,6 +53,9 @@ pub struct BenchArgs {
     /// Write an SVG chart of Mrays/s against primitive count.
     #[arg(long)]
     pub chart: Option<PathBuf>,
+    /// Also write each scene's triangles, ray sets and BVH hits to DIR/STEM.prism-rays (triangle scenes only).
+    #[arg(long, value_name = "DIR")]
+    pub export_rays: Option<PathBuf>,
 }
 
 /// One row of the table.
@@ -168,6 +175,14 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
             globals: scene.globals,
         };
         let (bounce, shadow) = secondary_rays(&scene_for_rays, &camera, 1);
+        if let Some(dir) = &args.export_rays {
+            let file = RaySetFile::trace(prims, &scene_for_rays.accel, [&camera, &bounce, &shadow])?;
+            std::fs::create_dir_all(dir).map_err(|e| PrismError::io(dir, e))?;
+            let stem = path.file_stem().map_or_else(|| "scene".into(), |s| s.to_string_lossy().into_owned());
+            let out = dir.join(format!("{stem}.prism-rays"));
+            file.write(&out)?;
+            eprintln!("{name}: wrote {}", out.display());
+        }
         drop(scene_for_rays);
         let (mut accels, mut builds) = (Vec::new(), Vec::new());
         for &kind in &kinds {

@@ -225,7 +225,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
         let render_s = p.elapsed.as_secs_f64();
         let samples = (p.spp_done - p.spp_resumed) as f64 * s.width as f64 * s.height as f64;
         eprintln!(
-            "{}x{} {} spp ({} passes, {}, {}, {} sampler) in {:.2} s render + {:.2} s setup ({:.2} Msamples/s); wrote {}",
+            "{}x{} {} spp ({} passes, {}, {}, {} sampler) in {:.3} s render + {:.2} s setup ({:.2} Msamples/s); wrote {}",
             s.width,
             s.height,
             p.spp_done,

@@ -1,0 +1,454 @@
+#!/usr/bin/env python3
+"""Prism against Mitsuba 3 at equal error: side by side, interleaved, on the scenes of ../shared/refs/.
+
+The full measurement (run it on a quiet machine; about 10 minutes per Cornell-sized scene):
+
+    python3 benches/peer/mitsuba_compare.py --spp 16,64,256 --reps 3
+
+A quick check that everything works (under a minute after the one-time set-up):
+
+    python3 benches/peer/mitsuba_compare.py --scenes cornell --spp 4,16 --reps 1 --prism-extra-spp ''
+
+Set-up (automatic, once; everything under target/peer/, which git ignores): a venv with `mitsuba==3.9.1` (the
+references' version) and numpy from PyPI; Debian's `libllvm19` fetched with `apt-get download` and unpacked with
+`dpkg -x` (Mitsuba's `llvm_ad_rgb` variant loads it through DRJIT_LIBLLVM_PATH); Prism built with `cargo build
+--release`. The script then re-runs itself with the venv's Python.
+
+For each scene (default: every reference with a Mitsuba dict and a Prism scene; a missing Prism scene is skipped
+with a message):
+  - Mitsuba 3.9.1 `llvm_ad_rgb`, path tracer with the reference's max_depth, 2 threads (dr.set_thread_count),
+    with the `ldsampler` (low-discrepancy; only 4^k spp) and the `independent` sampler. Each (sampler, spp) gets one
+    untimed warm-up render (JIT compilation); a timed render is `mi.render(scene, spp=N, seed=s)` plus the
+    conversion of the image to numpy (as ../shared/refs/curves2.md measured).
+  - Prism: `prism render SCENE --spp N --threads 2 --seed s --checkpoint 0 -o x.exr` plus the config's arguments
+    (default `--integrator "envlight(max_depth: D)"`, D the reference's); time = the render time Prism prints
+    (set-up excluded, like Mitsuba's load), and the process's wall time too. Also at --prism-extra-spp (default 4x
+    the largest spp), so that Prism's curve reaches the peer's lowest error without extrapolation.
+  - For each repetition and each spp the renderers run back to back, the order alternating, so a machine whose
+    speed drifts slows all alike. Seeds differ per repetition.
+  - RMSE = sqrt(mean over pixels and RGB of (img - ref)^2) against ../shared/refs/NAME.exr.
+
+Output (stdout and target/peer/results/): per scene, renderer and spp the median time (min-max), the mean RMSE
+and Msamples/s; and the equal-error time ratio Prism / Mitsuba-ldsampler (and / Mitsuba-independent) at each
+of the peer's spp: the peer's mean RMSE there is the target, Prism's (median time, mean RMSE) points are
+interpolated in log-log to the time they reach it (as src/converge.rs::time_to_error does; `~` marks a value
+extrapolated from the nearest segment), divided by the peer's median time. The spread is the min-max of the same
+ratio computed from each repetition's own points. Where NAME.json gives the reference's own noise, a ratio with
+both errors corrected for it (sqrt(rmse^2 - noise^2)) is shown too.
+"""
+import argparse
+import json
+import os
+import re
+import shlex
+import statistics
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[2]
+REFS = ROOT.parent / "shared" / "refs"
+PEER = ROOT / "target" / "peer"
+VENV = PEER / "venv"
+LLVM_DIR = PEER / "llvm19"
+MITSUBA_VERSION = "3.9.1"
+
+# name: (Prism scene, path max_depth of the reference (Mitsuba semantics: segments; -1 unlimited))
+SCENES = {
+    "cornell": ("scenes/cornell_box.ron", 8),
+    "cornell_caustic": ("scenes/cornell_caustic.ron", 12),
+    "cornell_rough": ("scenes/cornell_rough.ron", 8),
+    "dof": ("scenes/dof.ron", 8),
+    "textured": ("scenes/textured.ron", 8),
+    "furnace": ("scenes/furnace.ron", -1),
+}
+
+
+def log(msg):
+    print(msg, file=sys.stderr, flush=True)
+
+
+def run(cmd, **kw):
+    r = subprocess.run(cmd, capture_output=True, text=True, **kw)
+    if r.returncode != 0:
+        sys.exit(f"error: {' '.join(map(str, cmd))} failed ({r.returncode}):\n{r.stderr.strip()[-2000:]}")
+    return r
+
+
+# ---------------------------------------------------------------- set-up (system Python)
+
+def libllvm_path():
+    hits = sorted(LLVM_DIR.glob("usr/lib/*/libLLVM.so.19*")) + sorted(LLVM_DIR.glob("usr/lib/*/libLLVM-19.so*"))
+    return hits[0] if hits else None
+
+
+def bootstrap():
+    """Create the venv and unpack libLLVM 19 if needed, build Prism, then re-run this script in the venv."""
+    PEER.mkdir(parents=True, exist_ok=True)
+    py = VENV / "bin" / "python"
+    if not py.exists():
+        log(f"creating {VENV.relative_to(ROOT)} ...")
+        run([sys.executable, "-m", "venv", str(VENV)])
+    if run([str(py), "-m", "pip", "list", "--format=freeze"]).stdout.find(f"mitsuba=={MITSUBA_VERSION}") < 0:
+        log(f"pip install mitsuba=={MITSUBA_VERSION} numpy ...")
+        run([str(py), "-m", "pip", "install", "--quiet", f"mitsuba=={MITSUBA_VERSION}", "numpy"])
+    if libllvm_path() is None:
+        deb_dir = PEER / "deb"
+        deb_dir.mkdir(exist_ok=True)
+        log("apt-get download libllvm19 ...")
+        if subprocess.run(["apt-get", "download", "libllvm19"], cwd=deb_dir, capture_output=True).returncode != 0:
+            run(["apt-get", "update"])
+            run(["apt-get", "download", "libllvm19"], cwd=deb_dir)
+        debs = sorted(deb_dir.glob("libllvm19_*.deb"))
+        if not debs:
+            sys.exit("error: apt-get download libllvm19 produced no .deb")
+        run(["dpkg", "-x", str(debs[-1]), str(LLVM_DIR)])
+        if libllvm_path() is None:
+            sys.exit(f"error: no libLLVM.so.19 under {LLVM_DIR}")
+    log("cargo build --release ...")
+    run(["cargo", "build", "--release", "--quiet"], cwd=ROOT)
+    env = dict(os.environ, DRJIT_LIBLLVM_PATH=str(libllvm_path()), PRISM_PEER_IN_VENV="1")
+    os.execve(str(py), [str(py), str(Path(__file__).resolve()), *sys.argv[1:]], env)
+
+
+# ---------------------------------------------------------------- Mitsuba (inside the venv)
+
+def mitsuba_dict(name, mi):
+    """The Mitsuba 3.9.1 dict of ../shared/refs/NAME.md (transcribed from its "Mitsuba dict" section; `cornell`
+    and `furnace` from mitsuba_scenes.py there)."""
+    sys.path.insert(0, str(REFS))
+    import mitsuba_scenes  # noqa: E402 (needs the variant set)
+    T = mi.ScalarTransform4f
+    if name in ("cornell", "furnace"):
+        return mitsuba_scenes.build(name)
+    d = mi.cornell_box()
+    d["sensor"]["film"]["rfilter"] = {"type": "box"}
+    if name == "cornell_caustic":
+        d["integrator"] = {"type": "path", "max_depth": 12}
+        del d["small-box"], d["large-box"]
+        d["glass-sphere"] = {"type": "sphere", "center": [0.1, -0.6, 0.1], "radius": 0.4,
+                             "bsdf": {"type": "dielectric", "int_ior": 1.5, "ext_ior": 1.0}}
+    elif name == "cornell_rough":
+        d["integrator"] = {"type": "path", "max_depth": 8}
+        del d["small-box"], d["large-box"]
+        d["conductor-sphere"] = {
+            "type": "sphere", "center": [-0.42, -0.65, -0.35], "radius": 0.35,
+            "bsdf": {"type": "roughconductor", "distribution": "ggx", "alpha": 0.2, "material": "Au"}}
+        d["dielectric-sphere"] = {
+            "type": "sphere", "center": [0.42, -0.65, 0.30], "radius": 0.35,
+            "bsdf": {"type": "roughdielectric", "distribution": "ggx", "alpha": 0.15, "int_ior": 1.5,
+                     "ext_ior": 1.0}}
+    elif name == "dof":
+        d["integrator"] = {"type": "path", "max_depth": 8}
+        d["sensor"]["type"] = "thinlens"
+        d["sensor"]["aperture_radius"] = 0.06
+        d["sensor"]["focus_distance"] = 3.4
+    elif name == "textured":
+        tex = str(REFS / "textures")
+        c = d
+        d = {
+            "type": "scene",
+            "integrator": {"type": "path", "max_depth": 8},
+            "sensor": c["sensor"], "white": c["white"], "light": c["light"],
+            "env": {"type": "constant", "radiance": {"type": "rgb", "value": [0.05, 0.05, 0.05]}},
+            "back": {
+                "type": "rectangle", "to_world": T().translate([0.0, 0.0, -1.0]),
+                "bsdf": {"type": "diffuse",
+                         "reflectance": {"type": "bitmap", "filename": f"{tex}/checker_f.png",
+                                         "filter_type": "bilinear", "wrap_mode": "repeat", "raw": False}}},
+            "floor": {
+                "type": "rectangle", "to_world": T().translate([0.0, -1.0, 0.0]).rotate([1, 0, 0], -90),
+                "bsdf": {"type": "normalmap",
+                         "normalmap": {"type": "bitmap", "filename": f"{tex}/bumps_u.png",
+                                       "filter_type": "bilinear", "wrap_mode": "repeat", "raw": True},
+                         "flip_invalid_normals": True, "use_shadowing_function": False,
+                         "bsdf": {"type": "diffuse", "reflectance": {"type": "rgb", "value": [0.5, 0.5, 0.5]}}}},
+        }
+    else:
+        raise KeyError(name)
+    return d
+
+
+class Mitsuba:
+    """One scene loaded once per sampler; renders timed as curves2.md describes."""
+
+    def __init__(self, name, threads):
+        import drjit as dr
+        import mitsuba as mi
+        import numpy as np
+        mi.set_variant("llvm_ad_rgb")
+        dr.set_thread_count(threads)
+        self.mi, self.np = mi, np
+        self.scenes = {}
+        for sampler in ("ldsampler", "independent"):
+            d = mitsuba_dict(name, mi)
+            d["sensor"]["sampler"] = {"type": sampler, "sample_count": 4}
+            self.scenes[sampler] = mi.load_dict(d)
+        self.version = f"Mitsuba {mi.__version__} llvm_ad_rgb, {dr.thread_count()} threads"
+
+    def render(self, sampler, spp, seed):
+        t0 = time.perf_counter()
+        img = self.np.array(self.mi.render(self.scenes[sampler], spp=spp, seed=seed))
+        return time.perf_counter() - t0, img
+
+
+# ---------------------------------------------------------------- Prism, errors, interpolation
+
+def prism_render(prism, scene, spp, seed, threads, extra, out):
+    cmd = [str(prism), "render", str(scene), "--spp", str(spp), "--threads", str(threads), "--seed", str(seed),
+           "--checkpoint", "0", "-o", str(out), *extra]
+    t0 = time.perf_counter()
+    r = run(cmd, cwd=ROOT)
+    wall = time.perf_counter() - t0
+    m = re.search(r" in ([0-9.]+) s render", r.stderr)
+    if not m:
+        sys.exit(f"error: no render time in the output of {' '.join(cmd)}:\n{r.stderr}")
+    return float(m.group(1)), wall
+
+
+def read_exr(path):
+    import mitsuba as mi
+    import numpy as np
+    a = np.array(mi.Bitmap(str(path)), dtype=np.float64)
+    return a[..., :3] if a.ndim == 3 else a
+
+
+def rmse(img, ref):
+    import numpy as np
+    if img.shape != ref.shape:
+        sys.exit(f"error: image {img.shape} and reference {ref.shape} differ in size")
+    return float(np.sqrt(np.mean((np.asarray(img, dtype=np.float64) - ref) ** 2)))
+
+
+def time_to_error(points, target):
+    """Time at which the (time, error) curve reaches `target`, interpolated in log-log between the first pair of
+    points (in time order) that brackets it, as src/converge.rs::time_to_error; outside the curve's range,
+    extrapolated from the nearest segment. Returns (time, extrapolated) or (None, False)."""
+    import math
+    pts = sorted((t, e) for t, e in points if t > 0 and e > 0)
+    if not pts or not target > 0:
+        return None, False
+
+    def along(p0, p1):
+        (t0, e0), (t1, e1) = p0, p1
+        if e0 == e1:
+            return t0
+        a = (math.log(target) - math.log(e0)) / (math.log(e1) - math.log(e0))
+        return math.exp(math.log(t0) + a * (math.log(t1) - math.log(t0)))
+
+    for p0, p1 in zip(pts, pts[1:]):
+        if p0[1] >= target >= p1[1]:
+            return along(p0, p1), False
+    if len(pts) < 2:
+        return None, False
+    seg = (pts[-2], pts[-1]) if target < pts[-1][1] else (pts[0], pts[1])
+    if seg[1][1] >= seg[0][1]:  # the segment does not fall: no meaningful extrapolation
+        return None, False
+    return along(*seg), True
+
+
+def noise_of(name):
+    j = REFS / f"{name}.json"
+    return json.loads(j.read_text()).get("noise_rmse_estimate") if j.exists() else None
+
+
+def corrected(e, noise):
+    return (max(e * e - noise * noise, (0.05 * e) ** 2)) ** 0.5
+
+
+def spread(vals):
+    return f"{statistics.median(vals):.3g} ({min(vals):.3g}-{max(vals):.3g})" if vals else "-"
+
+
+# ---------------------------------------------------------------- the measurement
+
+def parse_args():
+    ap = argparse.ArgumentParser(description="Prism vs Mitsuba 3 at equal error (see the file's header).")
+    ap.add_argument("--scenes", default=",".join(SCENES), help="comma-separated reference names (default: all)")
+    ap.add_argument("--spp", default="16,64,256", help="spp list for both renderers (ldsampler: 4^k only)")
+    ap.add_argument("--prism-extra-spp", default="auto",
+                    help="extra spp for Prism only, to bracket the peer's lowest error (default: 4x the largest "
+                         "--spp; '' for none)")
+    ap.add_argument("--reps", type=int, default=3, help="repetitions (default 3)")
+    ap.add_argument("--threads", type=int, default=2, help="threads for both renderers (default 2)")
+    ap.add_argument("--prism", action="append", metavar="LABEL=ARGS",
+                    help="a Prism configuration: a label and extra `prism render` arguments, `{max_depth}` replaced "
+                         "by the reference's (repeatable; default: "
+                         "\"envlight=--integrator 'envlight(max_depth: {max_depth})'\"; ARGS is split as a shell "
+                         "would)")
+    ap.add_argument("--ppm", action="store_true",
+                    help="also Prism's `ppm` on cornell_caustic (--integrator \"ppm(max_depth: 12)\")")
+    ap.add_argument("-o", "--out", type=Path, default=PEER / "results", help="output directory")
+    a = ap.parse_args()
+    a.scenes = [s for s in a.scenes.split(",") if s]
+    for s in a.scenes:
+        if s not in SCENES:
+            sys.exit(f"error: unknown scene '{s}' (known: {', '.join(SCENES)})")
+    try:
+        a.spp = sorted({int(s) for s in a.spp.split(",") if s})
+        extra = a.prism_extra_spp
+        a.prism_extra_spp = [4 * a.spp[-1]] if extra == "auto" else sorted({int(s) for s in extra.split(",") if s})
+    except (ValueError, IndexError):
+        sys.exit("error: --spp and --prism-extra-spp take comma-separated positive integers")
+    if not a.spp or min(a.spp) < 1 or a.reps < 1 or a.threads < 1:
+        sys.exit("error: --spp, --reps and --threads must be positive")
+    configs = a.prism or ["envlight=--integrator 'envlight(max_depth: {max_depth})'"]
+    a.configs = []
+    for c in configs:
+        label, _, args = c.partition("=")
+        if not label:
+            sys.exit(f"error: --prism '{c}': expected LABEL=ARGS")
+        a.configs.append((label, args))
+    return a
+
+
+def is_ld(spp):
+    """ldsampler takes squares of powers of two >= 4, i.e. 4^k."""
+    n = spp
+    while n > 1 and n % 4 == 0:
+        n //= 4
+    return spp >= 4 and n == 1
+
+
+def measure(a):
+    import numpy as np
+    prism = ROOT / "target" / "release" / "prism"
+    a.out.mkdir(parents=True, exist_ok=True)
+    tmp = PEER / "tmp"
+    tmp.mkdir(exist_ok=True)
+    rows = []  # dicts: scene, renderer, spp, rep, seed, seconds, wall, rmse, msps
+    versions = set()
+    for name in a.scenes:
+        scene_file, max_depth = SCENES[name]
+        if not (ROOT / scene_file).exists():
+            log(f"{name}: skipped: no Prism scene {scene_file} yet")
+            continue
+        ref = read_exr(REFS / f"{name}.exr")
+        h, w = ref.shape[:2]
+        mts = Mitsuba(name, a.threads)
+        versions.add(mts.version)
+        configs = [(lb, shlex.split(args.replace("{max_depth}", str(max_depth)))) for lb, args in a.configs]
+        if a.ppm and name == "cornell_caustic":
+            configs.append(("ppm", ["--integrator", f"ppm(max_depth: {max_depth})"]))
+        peers = [(f"mitsuba-{s}", s) for s in ("ldsampler", "independent")]
+        ld_spp = [s for s in a.spp if is_ld(s)]
+        if len(ld_spp) < len(a.spp):
+            log(f"note: ldsampler skips spp {sorted(set(a.spp) - set(ld_spp))} (it takes 4, 16, 64, 256, ...)")
+        log(f"{name}: warming up Mitsuba's JIT ...")
+        for label, sampler in peers:
+            for spp in a.spp:
+                if sampler != "ldsampler" or is_ld(spp):
+                    mts.render(sampler, spp, 0)
+        prism_render(prism, ROOT / scene_file, min(a.spp), 0, a.threads, configs[0][1], tmp / "warmup.exr")
+        prism_spp = sorted(set(a.spp) | set(a.prism_extra_spp))
+        for rep in range(a.reps):
+            for i, spp in enumerate(prism_spp):
+                seed = 1 + rep * 1000 + i
+                jobs = []
+                if spp in a.spp:
+                    jobs += [(lb, s) for lb, s in peers if s != "ldsampler" or is_ld(spp)]
+                jobs += [(f"prism-{lb}", args) for lb, args in configs]
+                if (rep + i) % 2:
+                    jobs.reverse()
+                for label, what in jobs:
+                    if label.startswith("mitsuba"):
+                        secs, img = mts.render(what, spp, seed)
+                        wall = secs
+                    else:
+                        out = tmp / f"{name}.exr"
+                        secs, wall = prism_render(prism, ROOT / scene_file, spp, seed, a.threads, what, out)
+                        img = read_exr(out)
+                    e = rmse(np.asarray(img)[..., :3], ref)
+                    rows.append(dict(scene=name, renderer=label, spp=spp, rep=rep, seed=seed, seconds=secs,
+                                     wall=wall, rmse=e, msps=spp * w * h / secs / 1e6))
+                    log(f"{name} rep {rep + 1}/{a.reps} {spp:5d} spp {label:22s} {secs:8.3f} s  RMSE {e:.5f}")
+        del mts
+    return rows, versions
+
+
+def summarize(a, rows, versions):
+    raw = ["scene,renderer,spp,rep,seed,seconds,wall_seconds,rmse,msamples_per_s"]
+    raw += [f"{r['scene']},{r['renderer']},{r['spp']},{r['rep']},{r['seed']},{r['seconds']:.4f},{r['wall']:.4f},"
+            f"{r['rmse']:.6g},{r['msps']:.4f}" for r in rows]
+    (a.out / "mitsuba_compare_raw.csv").write_text("\n".join(raw) + "\n")
+    scenes = list(dict.fromkeys(r["scene"] for r in rows))
+    md = [f"Prism vs {', '.join(sorted(versions))}; Prism {a.threads} threads; {a.reps} repetition(s), "
+          f"interleaved; time: median (min-max), RMSE: mean over repetitions.", "",
+          "| scene | renderer | spp | time s | Prism wall s | RMSE | Msamples/s |", "|---|---|---:|---:|---:|---:|---:|"]
+    curves = {}  # (scene, renderer) -> {spp: [rows]}
+    for r in rows:
+        curves.setdefault((r["scene"], r["renderer"]), {}).setdefault(r["spp"], []).append(r)
+    for (scene, rend), by_spp in curves.items():
+        for spp, rs in sorted(by_spp.items()):
+            t = [x["seconds"] for x in rs]
+            wall = spread([x["wall"] for x in rs]) if rend.startswith("prism") else ""
+            md.append(f"| {scene} | {rend} | {spp} | {spread(t)} | {wall} | "
+                      f"{statistics.mean(x['rmse'] for x in rs):.5f} | "
+                      f"{statistics.median(x['msps'] for x in rs):.3f} |")
+    md += ["", "Equal-error time ratio, Prism / Mitsuba (< 1: Prism reaches the peer's error sooner): the peer's "
+           "mean RMSE at its spp is the target; Prism's time to it interpolated in log-log (`~`: extrapolated). "
+           "Spread: min-max of the ratio from each repetition's own points.", "",
+           "| scene | Prism | peer | peer spp | target RMSE | peer s | Prism s | ratio (spread) | ratio, Prism wall "
+           "time | ratio, reference noise removed |", "|---|---|---|---:|---:|---:|---:|---:|---:|---:|"]
+    ratios_csv = ["scene,prism,peer,peer_spp,target_rmse,peer_seconds,prism_seconds,ratio,ratio_min,ratio_max,"
+                  "ratio_wall,ratio_noise_corrected,extrapolated"]
+    for scene in scenes:
+        noise = noise_of(scene)
+        prisms = [k[1] for k in curves if k[0] == scene and k[1].startswith("prism")]
+        for peer in ("mitsuba-ldsampler", "mitsuba-independent"):
+            pc = curves.get((scene, peer), {})
+            for p in prisms:
+                cc = curves[(scene, p)]
+                med = [(statistics.median(x["seconds"] for x in rs), statistics.mean(x["rmse"] for x in rs),
+                        statistics.median(x["wall"] for x in rs)) for rs in cc.values()]
+                for spp, prs in sorted(pc.items()):
+                    target = statistics.mean(x["rmse"] for x in prs)
+                    peer_t = statistics.median(x["seconds"] for x in prs)
+                    tp, ex = time_to_error([(t, e) for t, e, _ in med], target)
+                    tw, exw = time_to_error([(wl, e) for _, e, wl in med], target)
+                    per_rep = []
+                    for x in prs:
+                        mine = [(r["seconds"], r["rmse"]) for rs in cc.values() for r in rs if r["rep"] == x["rep"]]
+                        t_rep, _ = time_to_error(mine, x["rmse"])
+                        if t_rep:
+                            per_rep.append(t_rep / x["seconds"])
+                    tn = None
+                    if noise:
+                        tn, _ = time_to_error([(t, corrected(e, noise)) for t, e, _ in med], corrected(target, noise))
+                    mark = "~" if ex else ""
+                    ratio = tp / peer_t if tp else None
+                    cells = [scene, p, peer, str(spp), f"{target:.5f}", f"{peer_t:.3f}",
+                             f"{mark}{tp:.3f}" if tp else "-",
+                             f"**{mark}{ratio:.2f}** ({min(per_rep):.2f}-{max(per_rep):.2f})" if ratio and per_rep
+                             else (f"{mark}{ratio:.2f}" if ratio else "-"),
+                             f"{'~' if exw else ''}{tw / peer_t:.2f}" if tw else "-",
+                             f"{tn / peer_t:.2f}" if tn else "-"]
+                    md.append("| " + " | ".join(cells) + " |")
+                    ratios_csv.append(",".join([scene, p, peer, str(spp), f"{target:.6g}", f"{peer_t:.4f}",
+                                                f"{tp:.4f}" if tp else "", f"{ratio:.4f}" if ratio else "",
+                                                f"{min(per_rep):.4f}" if per_rep else "",
+                                                f"{max(per_rep):.4f}" if per_rep else "",
+                                                f"{tw / peer_t:.4f}" if tw else "",
+                                                f"{tn / peer_t:.4f}" if tn else "", str(int(ex))]))
+    (a.out / "mitsuba_compare_ratios.csv").write_text("\n".join(ratios_csv) + "\n")
+    text = "\n".join(md)
+    (a.out / "mitsuba_compare.md").write_text(text + "\n")
+    print(text)
+    log(f"wrote {a.out}/mitsuba_compare.md, mitsuba_compare_raw.csv, mitsuba_compare_ratios.csv")
+
+
+def main():
+    a = parse_args()
+    if os.environ.get("PRISM_PEER_IN_VENV") != "1":
+        bootstrap()  # does not return
+    t0 = time.time()
+    rows, versions = measure(a)
+    if not rows:
+        sys.exit("error: nothing measured (no scene had a Prism scene file)")
+    summarize(a, rows, versions)
+    log(f"measured in {time.time() - t0:.0f} s")
+
+
+if __name__ == "__main__":
+    main()
