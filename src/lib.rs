@@ -10,6 +10,7 @@
 //! scene format in the README.
 
 pub mod accel;
+pub mod alpha;
 pub mod app;
 pub mod bsdf;
 pub mod camera;

@@ -104,6 +104,10 @@ pub struct Primitives {
     pub bounds: Bounds,
     /// Degenerate (zero-area or non-finite) mesh triangles that were skipped.
     pub skipped_degenerate: usize,
+    /// Alpha masks of the scene (see [`crate::alpha`]) and, when there is any, one mask index per triangle
+    /// ([`crate::alpha::NO_ALPHA`] for opaque ones); empty in scenes without masks.
+    pub alpha_masks: Vec<crate::alpha::AlphaMask>,
+    pub tri_alpha: Vec<u32>,
 }
 
 /// The primitive range one entity produced (used to attach area lights).
@@ -359,12 +363,18 @@ impl Primitives {
         let num_materials = materials.len() as u32;
         let mut prims = Primitives::default();
         let mut emitters = Vec::new();
-        let mut q =
-            world.query::<(hecs::Entity, &Shape, Option<&WorldFromLocal>, Option<&MaterialId>, Option<&Light>)>();
+        let mut q = world.query::<(
+            hecs::Entity,
+            &Shape,
+            Option<&WorldFromLocal>,
+            Option<&MaterialId>,
+            Option<&Light>,
+            Option<&crate::alpha::AlphaMask>,
+        )>();
         let mut items: Vec<_> = q.iter().collect();
         // Entity order is deterministic already; sort by id so the primitive order does not depend on archetypes.
         items.sort_by_key(|(e, ..)| e.id());
-        for (entity, shape, wfl, mat, light) in items {
+        for (entity, shape, wfl, mat, light, alpha) in items {
             let m = wfl.map(|w| w.0).unwrap_or(Affine3A::IDENTITY);
             let material = mat.map(|m| m.0).unwrap_or(0).min(num_materials.saturating_sub(1));
             let emits = matches!(light, Some(Light::Area { .. }));
@@ -456,6 +466,14 @@ impl Primitives {
                     }
                 }
             }
+            if let Some(mask) = alpha {
+                if sphere.is_some() {
+                    return Err(PrismError::scene(name(), "alpha masks apply to triangles and meshes, not spheres"));
+                }
+                prims.tri_alpha.resize(first_tri as usize, crate::alpha::NO_ALPHA);
+                prims.tri_alpha.resize(prims.tris.len(), prims.alpha_masks.len() as u32);
+                prims.alpha_masks.push(mask.clone());
+            }
             if emits {
                 let tri_count = prims.num_tris() - first_tri;
                 if tri_count == 0 && sphere.is_none() {
@@ -463,6 +481,9 @@ impl Primitives {
                 }
                 emitters.push((entity, EntityPrims { first_tri, tri_count, sphere }));
             }
+        }
+        if !prims.tri_alpha.is_empty() {
+            prims.tri_alpha.resize(prims.tris.len(), crate::alpha::NO_ALPHA);
         }
         prims.bounds = (0..prims.num_bounded()).fold(Bounds::EMPTY, |b, i| b.union(prims.prim_bounds(i)));
         Ok((prims, emitters))
@@ -512,7 +533,7 @@ fn make_sphere(m: &Affine3A, center: Vec3A, radius: f32, material: u32, light: u
 /// Spherical (u, v) in [0,1]^2 from a unit object-space normal, and dp/du, dp/dv for radius `r`: u around +y,
 /// 0.5 straight ahead along +z and growing towards +x (an image wrapped around the sphere reads left to right
 /// seen from outside), v = theta / pi from the north pole (+y, the image's top row) down.
-fn sphere_uv(n: Vec3A, r: f32) -> (Vec2, Vec3A, Vec3A) {
+pub fn sphere_uv(n: Vec3A, r: f32) -> (Vec2, Vec3A, Vec3A) {
     use std::f32::consts::PI;
     let u = 0.5 + n.x.atan2(n.z) / (2.0 * PI);
     let v = n.y.clamp(-1.0, 1.0).acos() / PI;

@@ -7,12 +7,16 @@
 //! - Emission (`sample_le`/`pdf_le`): a point uniform by area (ellipsoids: object-space uniform, with the area
 //!   Jacobian in the pdf), then a cosine-distributed direction about the normal (two-sided lights pick each side
 //!   with probability 1/2). Power `pi A L`, twice that for two-sided lights.
+//! - Textured emission (glTF's emissive texture): the radiance at a point is `L * texture(uv)`. Points are still
+//!   sampled uniformly by area (unbiased for any texture); the power, which only weighs the choice between lights,
+//!   integrates the texture over each triangle with 16 stratified points (spheres: 256 points).
 
 use super::{LeSample, LightSample};
 use crate::geometry::spawn_ray;
 use crate::math::Frame;
-use crate::primitives::{EntityPrims, Primitives, SurfaceHit, interpolation_error, sphere_point_error};
+use crate::primitives::{EntityPrims, Primitives, SurfaceHit, interpolation_error, sphere_point_error, sphere_uv};
 use crate::sampling::warp;
+use crate::texture::ImageMap;
 use glam::{Vec2, Vec3, Vec3A};
 use std::f32::consts::PI;
 
@@ -30,6 +34,10 @@ pub struct AreaLight {
     pub radiance: Vec3,
     pub two_sided: bool,
     pub shape: AreaShape,
+    /// Emission texture: the radiance at uv is `radiance * texture(uv)`.
+    pub texture: Option<ImageMap>,
+    /// Mean of the texture over the surface (by area), per channel; 1 without a texture.
+    texture_mean: Vec3,
 }
 
 fn tri_area(t: &[Vec3A; 3]) -> f32 {
@@ -37,7 +45,13 @@ fn tri_area(t: &[Vec3A; 3]) -> f32 {
 }
 
 impl AreaLight {
-    pub fn new(prims: &Primitives, ep: &EntityPrims, radiance: Vec3, two_sided: bool) -> Self {
+    pub fn new(
+        prims: &Primitives,
+        ep: &EntityPrims,
+        radiance: Vec3,
+        two_sided: bool,
+        texture: Option<ImageMap>,
+    ) -> Self {
         let shape = match ep.sphere {
             Some(index) => AreaShape::Sphere { index },
             None => {
@@ -59,7 +73,61 @@ impl AreaLight {
                 AreaShape::Triangles { first: ep.first_tri, count: ep.tri_count, cdf, normals, area }
             }
         };
-        AreaLight { radiance, two_sided, shape }
+        let mut light = AreaLight { radiance, two_sided, shape, texture, texture_mean: Vec3::ONE };
+        if light.texture.is_some() {
+            light.texture_mean = light.mean_texture(prims);
+        }
+        light
+    }
+
+    /// Radiance emitted at surface parameter `uv` (towards the emitting side).
+    #[inline]
+    pub fn radiance_at(&self, uv: Vec2) -> Vec3 {
+        match &self.texture {
+            None => self.radiance,
+            Some(t) => self.radiance * t.eval(uv),
+        }
+    }
+
+    /// Area-weighted mean of the emission texture: 16 stratified points per triangle (256 on a sphere).
+    fn mean_texture(&self, prims: &Primitives) -> Vec3 {
+        let n = 4;
+        let strata = |f: &mut dyn FnMut(Vec2)| {
+            for i in 0..n {
+                for j in 0..n {
+                    f(Vec2::new((i as f32 + 0.5) / n as f32, (j as f32 + 0.5) / n as f32));
+                }
+            }
+        };
+        let mut sum = glam::DVec3::ZERO;
+        let mut weight = 0.0f64;
+        match &self.shape {
+            AreaShape::Triangles { first, count, .. } => {
+                for k in *first..*first + *count {
+                    let a = tri_area(&prims.tris[k as usize]) as f64;
+                    let uvs = prims.tri_shading[k as usize].uvs;
+                    strata(&mut |u| {
+                        let (b0, b1, b2) = warp::uniform_triangle(u);
+                        let uv = b0 * uvs[0] + b1 * uvs[1] + b2 * uvs[2];
+                        sum += self.radiance_at(uv).as_dvec3() * (a / (n * n) as f64);
+                    });
+                    weight += a;
+                }
+            }
+            AreaShape::Sphere { index } => {
+                let r = prims.spheres[*index as usize].radius;
+                for _ in 0..4 {
+                    strata(&mut |u| {
+                        let (uv, ..) = sphere_uv(warp::uniform_sphere(u).into(), r);
+                        sum += self.radiance_at(uv).as_dvec3();
+                        weight += 1.0;
+                    });
+                }
+            }
+        }
+        let mean = if weight > 0.0 { (sum / weight).as_vec3() } else { Vec3::ZERO };
+        // The mean relative to the constant factor (the factor itself enters `power` separately).
+        Vec3::select(self.radiance.cmpgt(Vec3::ZERO), mean / self.radiance.max(Vec3::splat(f32::MIN_POSITIVE)), Vec3::ZERO)
     }
 
     /// Total surface area (exact for triangle sets and spheres; for ellipsoids the area integral by a 256 x 512
@@ -95,12 +163,12 @@ impl AreaLight {
 
     /// Total emitted power: `pi A L`, doubled for a two-sided light.
     pub fn power(&self, prims: &Primitives) -> Vec3 {
-        self.radiance * (PI * self.area(prims) * if self.two_sided { 2.0 } else { 1.0 })
+        self.radiance * self.texture_mean * (PI * self.area(prims) * if self.two_sided { 2.0 } else { 1.0 })
     }
 
-    /// A uniform point by area: (point, error bound, unit normal, area pdf).
+    /// A uniform point by area: (point, error bound, unit normal, area pdf, emitted radiance there).
     #[inline]
-    fn sample_point(&self, prims: &Primitives, u: Vec2) -> (Vec3A, Vec3A, Vec3A, f32) {
+    fn sample_point(&self, prims: &Primitives, u: Vec2) -> (Vec3A, Vec3A, Vec3A, f32, Vec3) {
         match &self.shape {
             AreaShape::Triangles { first, count, cdf, normals, area } => {
                 let k = cdf.partition_point(|&c| c <= u.x).min(*count as usize - 1);
@@ -109,24 +177,36 @@ impl AreaLight {
                 let t = &prims.tris[*first as usize + k];
                 let (b0, b1, b2) = warp::uniform_triangle(Vec2::new(ux, u.y));
                 let q = b0 * t[0] + b1 * t[1] + b2 * t[2];
-                (q, interpolation_error([b0, b1, b2], t), normals[k], 1.0 / area)
+                let le = match &self.texture {
+                    None => self.radiance,
+                    Some(_) => {
+                        let uvs = prims.tri_shading[*first as usize + k].uvs;
+                        self.radiance_at(b0 * uvs[0] + b1 * uvs[1] + b2 * uvs[2])
+                    }
+                };
+                (q, interpolation_error([b0, b1, b2], t), normals[k], 1.0 / area, le)
             }
             AreaShape::Sphere { index } => {
                 let s = &prims.spheres[*index as usize];
                 let no = warp::uniform_sphere(u);
+                let le = match &self.texture {
+                    None => self.radiance,
+                    Some(_) => self.radiance_at(sphere_uv(no, s.radius).0),
+                };
                 match &s.transform {
                     None => (
                         s.center + no * s.radius,
                         sphere_point_error(s.center, no * s.radius, None),
                         no,
                         1.0 / (4.0 * PI * s.radius * s.radius),
+                        le,
                     ),
                     Some(x) => {
                         let q = x.world_from_object.transform_point3a(s.center + no * s.radius);
                         let nw = x.normal_to_world * no;
                         let jac = x.world_from_object.matrix3.determinant().abs() * nw.length();
                         let err = sphere_point_error(s.center, no * s.radius, Some(x));
-                        (q, err, nw.normalize(), 1.0 / (4.0 * PI * s.radius * s.radius * jac))
+                        (q, err, nw.normalize(), 1.0 / (4.0 * PI * s.radius * s.radius * jac), le)
                     }
                 }
             }
@@ -137,7 +217,7 @@ impl AreaLight {
     /// light first picks its side with `u_dir.x`). The origin is offset off the surface.
     #[inline]
     pub fn sample_le(&self, prims: &Primitives, u_pos: Vec2, u_dir: Vec2) -> Option<LeSample> {
-        let (p, p_err, n, pdf_pos) = self.sample_point(prims, u_pos);
+        let (p, p_err, n, pdf_pos, le) = self.sample_point(prims, u_pos);
         let (side, u_dir, side_prob) = if self.two_sided {
             if u_dir.x < 0.5 {
                 (n, Vec2::new(2.0 * u_dir.x, u_dir.y), 0.5)
@@ -153,7 +233,7 @@ impl AreaLight {
             return None;
         }
         let dir = Frame::from_normal(side).to_world(local);
-        Some(LeSample { ray: spawn_ray(p, p_err, n, dir), le: self.radiance, n: side, pdf_pos, pdf_dir })
+        Some(LeSample { ray: spawn_ray(p, p_err, n, dir), le, n: side, pdf_pos, pdf_dir })
     }
 
     /// Position (area) and direction (solid angle) pdfs of an emitted ray leaving the point `p` (on the light, with
@@ -180,7 +260,11 @@ impl AreaLight {
 
     /// Convert an area-measure sample at `q` (normal `n`) seen from `p` into a light sample.
     #[inline]
-    fn sample_at_point(&self, p: Vec3A, q: Vec3A, q_err: Vec3A, n: Vec3A, pdf_area: f32) -> Option<LightSample> {
+    fn sample_at_point(
+        &self,
+        p: Vec3A,
+        (q, q_err, n, pdf_area, li): (Vec3A, Vec3A, Vec3A, f32, Vec3),
+    ) -> Option<LightSample> {
         let d = q - p;
         let dist2 = d.length_squared();
         if dist2 == 0.0 {
@@ -198,7 +282,7 @@ impl AreaLight {
             n,
             wi,
             dist,
-            li: self.radiance,
+            li,
             pdf: pdf_area * dist2 / cos_l.abs(),
             delta: false,
         })
@@ -227,6 +311,10 @@ impl AreaLight {
                 let f = Frame::from_normal(-wc);
                 let n = f.to_world(Vec3A::new(sin_a * phi.cos(), sin_a * phi.sin(), cos_a));
                 let q = s.center + n * s.radius;
+                let li = match &self.texture {
+                    None => self.radiance,
+                    Some(_) => self.radiance_at(sphere_uv(n, s.radius).0),
+                };
                 let d = q - p;
                 let dist = d.length();
                 let wi = d / dist;
@@ -239,15 +327,14 @@ impl AreaLight {
                     n,
                     wi,
                     dist,
-                    li: self.radiance,
+                    li,
                     pdf: 1.0 / (2.0 * PI * one_minus_cos_max),
                     delta: false,
                 });
             }
         }
         // Triangle sets, ellipsoids, and points inside (or on) a sphere: uniform by area.
-        let (q, q_err, n, pdf_area) = self.sample_point(prims, u);
-        self.sample_at_point(p, q, q_err, n, pdf_area)
+        self.sample_at_point(p, self.sample_point(prims, u))
     }
 
     pub fn pdf(&self, prims: &Primitives, p: Vec3A, hit: &SurfaceHit) -> f32 {

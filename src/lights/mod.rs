@@ -34,7 +34,7 @@ pub use piecewise::Piecewise2D;
 pub use point::PointLight;
 pub use power_sampler::PowerLightSampler;
 pub use quadtree::{DELTA, EPSILON, EnvSample, QuadTree};
-pub use spot::SpotLight;
+pub use spot::{SpotLight, SpotProfile};
 
 use crate::components::{Light, WorldFromLocal};
 use crate::error::{PrismError, Result};
@@ -152,8 +152,8 @@ impl LightSet {
             let Ok(light) = world.get::<&Light>(*entity) else {
                 continue;
             };
-            if let Light::Area { radiance, two_sided } = *light {
-                lights.push(LightSource::Area(AreaLight::new(prims, ep, radiance, two_sided)));
+            if let Light::Area { radiance, two_sided, texture } = &*light {
+                lights.push(LightSource::Area(AreaLight::new(prims, ep, *radiance, *two_sided, texture.clone())));
             }
         }
         let mut environment = None;
@@ -169,7 +169,7 @@ impl LightSet {
                     intensity: *intensity,
                     attenuation: *attenuation,
                 })),
-                Light::Spot { intensity, position, direction, cone_angle, falloff } => {
+                Light::Spot { intensity, position, direction, cone_angle, falloff, profile } => {
                     let axis = m
                         .transform_vector3a((*direction).into())
                         .try_normalize()
@@ -180,6 +180,7 @@ impl LightSet {
                         *intensity,
                         *cone_angle,
                         *falloff,
+                        *profile,
                     )))
                 }
                 Light::Environment { radiance, map } => {
@@ -270,11 +271,11 @@ impl LightSet {
         }
     }
 
-    /// Radiance leaving area light `slot` at a point with geometric normal `ng` towards `wo`.
+    /// Radiance leaving area light `slot` at the surface point `s` towards `wo`.
     #[inline]
-    pub fn area_radiance(&self, slot: u32, ng: Vec3A, wo: Vec3A) -> Vec3 {
+    pub fn area_radiance(&self, slot: u32, s: &SurfaceHit, wo: Vec3A) -> Vec3 {
         match &self.lights[slot as usize] {
-            LightSource::Area(a) if a.two_sided || ng.dot(wo) > 0.0 => a.radiance,
+            LightSource::Area(a) if a.two_sided || s.ng.dot(wo) > 0.0 => a.radiance_at(s.uv),
             _ => Vec3::ZERO,
         }
     }

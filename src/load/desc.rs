@@ -133,6 +133,13 @@ pub struct CameraDesc {
     /// Image width and height in pixels.
     #[serde(default = "default_size")]
     pub size: (u32, u32),
+    /// Mirror the image left-right (image-right = up x forward: pbrt's left-handed screen space).
+    #[serde(default)]
+    pub mirror: bool,
+    /// Render only the window `(x_min, y_min, x_max, y_max)` of the full frame (fractions; pbrt's `cropwindow`);
+    /// `size` is then the window's size in pixels.
+    #[serde(default)]
+    pub crop: Option<[f32; 4]>,
 }
 
 #[derive(Deserialize, Debug, Clone)]
@@ -238,6 +245,9 @@ pub enum LightDesc {
         cone_angle: f32,
         #[serde(default = "default_falloff")]
         falloff: f32,
+        /// Shape of the fall-off: `smoothstep` (pbrt-v4, default), `quartic` (pbrt-v3) or `gltf`.
+        #[serde(default)]
+        profile: crate::lights::SpotProfile,
     },
     /// Distant light travelling along `direction`; `irradiance` in W/m^2 on a surface facing it.
     Directional {
@@ -245,11 +255,14 @@ pub enum LightDesc {
         #[serde(default = "down")]
         direction: V3,
     },
-    /// The entity's shape emits `radiance` (W/m^2/sr) from its front face, or both faces.
+    /// The entity's shape emits `radiance` (W/m^2/sr) from its front face, or both faces; with a `texture` (an
+    /// image of `textures`), `radiance * texture(uv)`.
     Area {
         radiance: V3,
         #[serde(default)]
         two_sided: bool,
+        #[serde(default)]
+        texture: Option<String>,
     },
     /// Light from infinitely far away: `radiance * scale * map(direction)`, or the constant `radiance * scale`.
     /// `map` is one file (equirect or vertical cross), `faces` six files (px nx py ny pz nz); the entity's

@@ -112,7 +112,7 @@ fn load_obj_scene(path: &Path, world: &mut World, res: &mut Resources) -> Result
             world.insert_one(e, MaterialId(id)).ok();
         }
         if let Some(radiance) = part.emission {
-            world.insert_one(e, Light::Area { radiance, two_sided: false }).ok();
+            world.insert_one(e, Light::Area { radiance, two_sided: false, texture: None }).ok();
         }
     }
     let center = 0.5 * (lo + hi);
@@ -131,6 +131,7 @@ fn load_obj_scene(path: &Path, world: &mut World, res: &mut Resources) -> Result
             height: 256,
             aperture_radius: 0.0,
             focus_distance: dist,
+            ..Camera::default()
         },
     ));
     world.spawn((

@@ -39,6 +39,7 @@ struct Spawner<'r> {
     base_dir: PathBuf,
     res: &'r mut Resources,
     materials: HashMap<String, MaterialEntry>,
+    textures: HashMap<String, u32>,
     mtl_ids: HashMap<(PathBuf, String), u32>,
     part_cache: HashMap<(PathBuf, bool), Vec<MeshPart>>,
 }
@@ -77,11 +78,13 @@ pub fn spawn_scene(
         base_dir: base_dir.to_path_buf(),
         res,
         materials: HashMap::new(),
+        textures: HashMap::new(),
         mtl_ids: HashMap::new(),
         part_cache: HashMap::new(),
     };
     let textures = super::materials::load_textures(&desc.textures, base_dir, &ctx, sp.res)?;
     sp.materials = super::materials::load_materials(&desc.materials, &textures, &ctx, sp.res)?;
+    sp.textures = textures;
     if let Some(cam) = &desc.camera {
         let c = camera_component(cam, &format!("{ctx}: camera"))?;
         world.spawn((Name("camera".into()), c));
@@ -153,6 +156,14 @@ pub fn camera_component(c: &CameraDesc, ctx: &str) -> Result<Camera> {
     if !(c.aperture_radius.is_finite() && c.aperture_radius >= 0.0) {
         return Err(PrismError::scene(ctx, format!("aperture_radius must be >= 0, got {}", c.aperture_radius)));
     }
+    if let Some(w) = c.crop
+        && !(w.iter().all(|v| v.is_finite()) && 0.0 <= w[0] && w[0] < w[2] && w[2] <= 1.0 && 0.0 <= w[1] && w[1] < w[3] && w[3] <= 1.0)
+    {
+        return Err(PrismError::scene(
+            ctx,
+            format!("crop must be (x_min, y_min, x_max, y_max) with 0 <= min < max <= 1, got {w:?}"),
+        ));
+    }
     let focus_distance = c.focus_distance.unwrap_or(fwd.length());
     if !(focus_distance.is_finite() && focus_distance > 0.0) {
         return Err(PrismError::scene(ctx, format!("focus_distance must be positive, got {focus_distance}")));
@@ -166,12 +177,27 @@ pub fn camera_component(c: &CameraDesc, ctx: &str) -> Result<Camera> {
         height: c.size.1,
         aperture_radius: c.aperture_radius,
         focus_distance,
+        mirror: c.mirror,
+        crop: c.crop,
     })
 }
 
 impl Spawner<'_> {
     fn ctx(&self) -> String {
         self.file.display().to_string()
+    }
+
+    /// An image texture of `textures` for an area light's emission.
+    fn emission_texture(&self, name: &str, ctx: &str) -> Result<crate::texture::ImageMap> {
+        let id = self.textures.get(name).ok_or_else(|| {
+            PrismError::scene(ctx, format!("area light: unknown texture '{name}'"))
+        })?;
+        match self.res.textures.get(*id) {
+            crate::texture::Texture::Image(m) => Ok(m.clone()),
+            crate::texture::Texture::Solid(_) => {
+                Err(PrismError::scene(ctx, format!("area light: texture '{name}' must be an image")))
+            }
+        }
     }
 
     fn lookup_material(&self, name: &str, ctx: &str) -> Result<&MaterialEntry> {
@@ -213,7 +239,7 @@ impl Spawner<'_> {
             None => (None, None),
         };
         let light = match &e.light {
-            None => mat_emission.map(|(radiance, two_sided)| Light::Area { radiance, two_sided }),
+            None => mat_emission.map(|(radiance, two_sided)| Light::Area { radiance, two_sided, texture: None }),
             Some(_) if mat_emission.is_some() && e.material.is_some() => {
                 return Err(PrismError::scene(&ctx, "has both an emissive material and a light; use one"));
             }
@@ -228,7 +254,7 @@ impl Spawner<'_> {
                     attenuation,
                 })
             }
-            Some(LightDesc::Spot { intensity, position, direction, target, cone_angle, falloff }) => {
+            Some(LightDesc::Spot { intensity, position, direction, target, cone_angle, falloff, profile }) => {
                 let position = point(*position, "position", &ctx)?;
                 let direction = match (direction, target) {
                     (Some(_), Some(_)) => {
@@ -262,6 +288,7 @@ impl Spawner<'_> {
                     direction,
                     cone_angle: *cone_angle,
                     falloff: *falloff,
+                    profile: *profile,
                 })
             }
             Some(LightDesc::Directional { irradiance, direction }) => {
@@ -271,8 +298,12 @@ impl Spawner<'_> {
                 }
                 Some(Light::Directional { irradiance: color(*irradiance, "irradiance", &ctx)?, direction: d })
             }
-            Some(LightDesc::Area { radiance, two_sided }) => {
-                Some(Light::Area { radiance: color(*radiance, "radiance", &ctx)?, two_sided: *two_sided })
+            Some(LightDesc::Area { radiance, two_sided, texture }) => {
+                let texture = match texture {
+                    None => None,
+                    Some(name) => Some(self.emission_texture(name, &ctx)?),
+                };
+                Some(Light::Area { radiance: color(*radiance, "radiance", &ctx)?, two_sided: *two_sided, texture })
             }
             Some(LightDesc::Environment { map, faces, layout, radiance, scale }) => {
                 if !(scale.is_finite() && *scale >= 0.0) {
@@ -349,7 +380,7 @@ impl Spawner<'_> {
                     cb.add(l.clone());
                 }
                 (None, Some(radiance)) => {
-                    cb.add(Light::Area { radiance, two_sided: false });
+                    cb.add(Light::Area { radiance, two_sided: false, texture: None });
                 }
                 _ => {}
             }
