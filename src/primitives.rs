@@ -429,7 +429,7 @@ impl Primitives {
                     let tangents = materials
                         .get(material as usize)
                         .is_some_and(|mat| mat.needs_tangents())
-                        .then(|| crate::mesh_tangents::mikktspace_tangents(mesh));
+                        .then(|| crate::mesh_tangents::corner_tangents(mesh));
                     let det_sign = m.matrix3.determinant().signum();
                     for (f, idx) in mesh.indices.iter().enumerate() {
                         let v = idx.map(|i| world_pos[i as usize]);

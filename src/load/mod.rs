@@ -6,6 +6,7 @@ mod material_desc;
 mod materials;
 pub mod mit6837;
 mod obj;
+pub mod ply;
 mod ron_scene;
 mod spawn;
 mod transform;
@@ -68,6 +69,7 @@ fn load_file(path: &Path, world: &mut World, res: &mut Resources) -> Result<File
             spawn_scene(&desc, &text, path, base, world, res)
         }
         "obj" => load_obj_scene(path, world, res),
+        "ply" => load_ply_scene(path, world, res),
         "txt" => {
             // A 6.837 scene: spawned through its RON equivalent (what `prism convert` writes).
             let base = path.parent().unwrap_or(Path::new("."));
@@ -84,6 +86,18 @@ fn load_file(path: &Path, world: &mut World, res: &mut Resources) -> Result<File
             path.display()
         ))),
     }
+}
+
+/// A bare PLY mesh as a scene: grey Lambert, framed and lit like a bare OBJ.
+fn load_ply_scene(path: &Path, world: &mut World, res: &mut Resources) -> Result<FileSettings> {
+    res.materials.push(Material::default());
+    let mesh = ply::load_ply(path)?;
+    let (lo, hi) = mesh.positions.iter().fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), p| (lo.min(*p), hi.max(*p)));
+    let name = Name(mesh.name.clone());
+    let h = res.meshes.add(mesh);
+    world.spawn((name, Shape::Mesh(h)));
+    spawn_framing_camera_and_headlight(world, lo, hi);
+    Ok(FileSettings::default())
 }
 
 /// A bare OBJ file as a scene: the mesh with its MTL materials, a camera framing it from +z, and a headlight
@@ -115,6 +129,13 @@ fn load_obj_scene(path: &Path, world: &mut World, res: &mut Resources) -> Result
             world.insert_one(e, Light::Area { radiance, two_sided: false, texture: None }).ok();
         }
     }
+    spawn_framing_camera_and_headlight(world, lo, hi);
+    Ok(FileSettings::default())
+}
+
+/// A 256 x 256 camera framing the box `[lo, hi]` from +z (fov 40) and a headlight along the view (irradiance pi).
+fn spawn_framing_camera_and_headlight(world: &mut World, lo: Vec3, hi: Vec3) {
+    let (lo, hi) = if lo.cmple(hi).all() { (lo, hi) } else { (Vec3::ZERO, Vec3::ZERO) };
     let center = 0.5 * (lo + hi);
     let radius = (0.5 * (hi - lo).length()).max(1e-6);
     let fov: f32 = 40.0;
@@ -138,7 +159,6 @@ fn load_obj_scene(path: &Path, world: &mut World, res: &mut Resources) -> Result
         Name("headlight".into()),
         Light::Directional { irradiance: Vec3::splat(std::f32::consts::PI), direction: -Vec3::Z },
     ));
-    Ok(FileSettings::default())
 }
 
 /// Merge file settings and overrides into `res.settings`; apply `--size` to the camera.

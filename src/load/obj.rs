@@ -86,7 +86,7 @@ pub fn load_obj(path: &Path) -> Result<Vec<ObjPart>> {
             None => (None, None),
         };
         parts.push(ObjPart {
-            mesh: MeshData { name: model.name, positions, normals, uvs, indices },
+            mesh: MeshData { name: model.name, positions, normals, uvs, indices, tangents: vec![] },
             material,
             emission,
         });

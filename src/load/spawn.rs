@@ -460,16 +460,30 @@ impl Spawner<'_> {
 
     fn mesh_file(&mut self, path: &Path, flat: bool, ctx: &str) -> Result<ShapeOut> {
         let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
-        if ext != "obj" {
+        if ext != "obj" && ext != "ply" {
             return Err(PrismError::scene(
                 ctx,
-                format!("mesh '{}': unsupported format (expected .obj)", path.display()),
+                format!("mesh '{}': unsupported format (expected .obj or .ply)", path.display()),
             ));
         }
         if !path.is_file() {
             return Err(PrismError::scene(ctx, format!("mesh file not found: {}", path.display())));
         }
         let key = path.to_path_buf();
+        if ext == "ply" {
+            // One mesh, no materials: loaded once per (file, flat) and shared by every entity that uses it.
+            if let Some(p) = self.part_cache.get(&(key.clone(), flat)) {
+                return Ok(ShapeOut::One(p[0].shape.clone()));
+            }
+            let mut mesh = super::ply::load_ply(path)?;
+            if flat {
+                mesh.normals.clear();
+            }
+            let shape = Shape::Mesh(self.res.meshes.add(mesh));
+            let part = MeshPart { name: String::new(), shape: shape.clone(), material: None, emission: None };
+            self.part_cache.insert((key, flat), vec![part]);
+            return Ok(ShapeOut::One(shape));
+        }
         let parts = if let Some(p) = self.part_cache.get(&(key.clone(), flat)) {
             // Referenced before: share the meshes and materials.
             p.clone()
