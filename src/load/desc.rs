@@ -58,8 +58,47 @@ pub struct SceneDesc<'a> {
     pub textures: std::collections::BTreeMap<String, TextureDesc>,
     #[serde(default)]
     pub materials: std::collections::BTreeMap<String, MaterialDesc>,
+    /// Named inline triangle meshes (`TriangleMesh("name")` shapes refer to them; each is stored once).
+    #[serde(default)]
+    pub meshes: std::collections::BTreeMap<String, MeshDesc>,
     #[serde(default)]
     pub entities: Vec<EntityDesc>,
+}
+
+/// An inline triangle mesh: positions, triangles (indices into positions, counter-clockwise seen from the
+/// front), and optionally one normal and one uv per position.
+#[derive(Deserialize, Debug, Clone)]
+#[serde(deny_unknown_fields)]
+pub struct MeshDesc {
+    pub positions: Vec<V3>,
+    pub indices: Vec<[u32; 3]>,
+    #[serde(default)]
+    pub normals: Vec<V3>,
+    #[serde(default)]
+    pub uvs: Vec<[f32; 2]>,
+}
+
+/// Where an entity's surface exists for rays: `alpha = factor * texture(uv).r` (a grey image, or the red channel).
+#[derive(Deserialize, Debug, Clone)]
+#[serde(deny_unknown_fields)]
+pub struct AlphaDesc {
+    #[serde(default)]
+    pub texture: Option<String>,
+    #[serde(default = "unit")]
+    pub factor: f32,
+    /// `Mask(cutoff: c)`: a hole where alpha < c; `Blend`: met with probability alpha (stochastic transparency).
+    #[serde(default)]
+    pub mode: AlphaModeDesc,
+}
+
+#[derive(Deserialize, Debug, Clone, Copy, Default)]
+#[serde(deny_unknown_fields)]
+pub enum AlphaModeDesc {
+    Mask {
+        cutoff: f32,
+    },
+    #[default]
+    Blend,
 }
 
 /// How to render: every field can be overridden on the command line.
@@ -157,6 +196,9 @@ pub struct EntityDesc {
     pub material: Option<String>,
     #[serde(default)]
     pub light: Option<LightDesc>,
+    /// An alpha cut-out of the entity's triangles (see [`AlphaDesc`]).
+    #[serde(default)]
+    pub alpha: Option<AlphaDesc>,
     /// Nested entities: they inherit this entity's transform (and its material if they name none).
     #[serde(default)]
     pub children: Vec<EntityDesc>,
@@ -210,13 +252,18 @@ pub enum ShapeDesc {
     },
     /// The cube [-1,1]^3 (outward normals); scale and place it with `transform`.
     Cube,
-    /// A mesh file (OBJ), path relative to the scene file.
+    /// A mesh file (OBJ or PLY), path relative to the scene file.
     Mesh {
         path: String,
         /// Ignore the file's vertex normals and shade flat.
         #[serde(default)]
         flat: bool,
+        /// Reverse the triangles' winding: the front face (the side an area light emits from) becomes the back.
+        #[serde(default)]
+        reverse: bool,
     },
+    /// A mesh of the scene's `meshes` table, by name.
+    TriangleMesh(String),
 }
 
 #[derive(Deserialize, Debug, Clone)]

@@ -5,6 +5,7 @@ pub mod desc;
 mod material_desc;
 mod materials;
 pub mod mit6837;
+mod inline_mesh;
 mod obj;
 pub mod ply;
 mod ron_scene;

@@ -40,8 +40,9 @@ struct Spawner<'r> {
     res: &'r mut Resources,
     materials: HashMap<String, MaterialEntry>,
     textures: HashMap<String, u32>,
+    inline_meshes: HashMap<String, crate::components::MeshHandle>,
     mtl_ids: HashMap<(PathBuf, String), u32>,
-    part_cache: HashMap<(PathBuf, bool), Vec<MeshPart>>,
+    part_cache: HashMap<(PathBuf, bool, bool), Vec<MeshPart>>,
 }
 
 fn color(v: V3, what: &str, ctx: &str) -> Result<Vec3> {
@@ -79,12 +80,14 @@ pub fn spawn_scene(
         res,
         materials: HashMap::new(),
         textures: HashMap::new(),
+        inline_meshes: HashMap::new(),
         mtl_ids: HashMap::new(),
         part_cache: HashMap::new(),
     };
     let textures = super::materials::load_textures(&desc.textures, base_dir, &ctx, sp.res)?;
     sp.materials = super::materials::load_materials(&desc.materials, &textures, &ctx, sp.res)?;
     sp.textures = textures;
+    sp.inline_meshes = super::inline_mesh::load_meshes(&desc.meshes, &ctx, &mut sp.res.meshes)?;
     if let Some(cam) = &desc.camera {
         let c = camera_component(cam, &format!("{ctx}: camera"))?;
         world.spawn((Name("camera".into()), c));
@@ -358,6 +361,15 @@ impl Spawner<'_> {
         if let Some(id) = mat_id {
             b.add(MaterialId(id));
         }
+        let alpha = match &e.alpha {
+            Some(a) => Some(super::inline_mesh::alpha_mask(a, &self.textures, &self.res.textures, &ctx)?),
+            None => None,
+        };
+        if let Some(a) = &alpha
+            && mesh_parts.is_empty()
+        {
+            b.add(a.clone());
+        }
         if let Some(l) = &light
             && mesh_parts.is_empty()
         {
@@ -375,6 +387,9 @@ impl Spawner<'_> {
                 (None, Some(id)) => cb.add(MaterialId(id)),
                 (None, None) => &mut cb,
             };
+            if let Some(a) = &alpha {
+                cb.add(a.clone());
+            }
             match (&light, part.emission) {
                 (Some(l), _) => {
                     cb.add(l.clone());
@@ -451,14 +466,19 @@ impl Spawner<'_> {
                 Shape::Mesh(self.res.meshes.add(mesh))
             }
             ShapeDesc::Cube => Shape::Mesh(self.res.meshes.add(MeshData::unit_cube())),
-            ShapeDesc::Mesh { path, flat } => {
+            ShapeDesc::Mesh { path, flat, reverse } => {
                 let full = self.base_dir.join(path);
-                return self.mesh_file(&full, *flat, ctx);
+                return self.mesh_file(&full, *flat, *reverse, ctx);
             }
+            ShapeDesc::TriangleMesh(name) => Shape::Mesh(*self.inline_meshes.get(name).ok_or_else(|| {
+                let mut known: Vec<&str> = self.inline_meshes.keys().map(String::as_str).collect();
+                known.sort();
+                PrismError::scene(ctx, format!("unknown mesh '{name}' (defined: {})", known.join(", ")))
+            })?),
         }))
     }
 
-    fn mesh_file(&mut self, path: &Path, flat: bool, ctx: &str) -> Result<ShapeOut> {
+    fn mesh_file(&mut self, path: &Path, flat: bool, reverse: bool, ctx: &str) -> Result<ShapeOut> {
         let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
         if ext != "obj" && ext != "ply" {
             return Err(PrismError::scene(
@@ -471,20 +491,23 @@ impl Spawner<'_> {
         }
         let key = path.to_path_buf();
         if ext == "ply" {
-            // One mesh, no materials: loaded once per (file, flat) and shared by every entity that uses it.
-            if let Some(p) = self.part_cache.get(&(key.clone(), flat)) {
+            // One mesh, no materials: loaded once per (file, flat, reverse) and shared by every entity using it.
+            if let Some(p) = self.part_cache.get(&(key.clone(), flat, reverse)) {
                 return Ok(ShapeOut::One(p[0].shape.clone()));
             }
             let mut mesh = super::ply::load_ply(path)?;
             if flat {
                 mesh.normals.clear();
             }
+            if reverse {
+                super::inline_mesh::reverse_winding(&mut mesh);
+            }
             let shape = Shape::Mesh(self.res.meshes.add(mesh));
             let part = MeshPart { name: String::new(), shape: shape.clone(), material: None, emission: None };
-            self.part_cache.insert((key, flat), vec![part]);
+            self.part_cache.insert((key, flat, reverse), vec![part]);
             return Ok(ShapeOut::One(shape));
         }
-        let parts = if let Some(p) = self.part_cache.get(&(key.clone(), flat)) {
+        let parts = if let Some(p) = self.part_cache.get(&(key.clone(), flat, reverse)) {
             // Referenced before: share the meshes and materials.
             p.clone()
         } else {
@@ -493,6 +516,9 @@ impl Spawner<'_> {
             for mut part in loaded {
                 if flat {
                     part.mesh.normals.clear();
+                }
+                if reverse {
+                    super::inline_mesh::reverse_winding(&mut part.mesh);
                 }
                 let material = part.material.map(|m| {
                     let k = (key.clone(), m.name.clone());
@@ -505,7 +531,7 @@ impl Spawner<'_> {
                 let h = self.res.meshes.add(part.mesh);
                 out.push(MeshPart { name, shape: Shape::Mesh(h), material, emission: part.emission });
             }
-            self.part_cache.insert((key.clone(), flat), out.clone());
+            self.part_cache.insert((key.clone(), flat, reverse), out.clone());
             out
         };
         if parts.len() == 1 && parts[0].emission.is_none() && parts[0].material.is_none() {
