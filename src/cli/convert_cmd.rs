@@ -1,14 +1,15 @@
-//! `prism convert IN.txt -o OUT.ron`: a 6.837 scene written as the equivalent Prism RON scene (mesh paths
-//! relative to the output file). The result is parsed back before it is written, so a written file always loads.
+//! `prism convert IN.txt|IN.pbrt -o OUT.ron`: a 6.837 or pbrt scene written as the equivalent Prism RON scene
+//! (mesh and texture paths relative to the output file). The result is parsed back before it is written, so a
+//! written file always parses.
 
 use crate::error::PrismError;
-use crate::load::{mit6837, parse_scene};
+use crate::load::{mit6837, parse_scene, pbrt};
 use clap::Args;
 use std::path::{Path, PathBuf};
 
 #[derive(Args, Debug, Clone)]
 pub struct ConvertArgs {
-    /// A 6.837 scene file (.txt).
+    /// A 6.837 scene file (.txt) or a pbrt-v3/v4 scene (.pbrt).
     pub input: PathBuf,
     /// The RON scene to write (.ron).
     #[arg(short, long)]
@@ -17,8 +18,13 @@ pub struct ConvertArgs {
 
 pub fn run(args: ConvertArgs) -> anyhow::Result<()> {
     let ext = |p: &Path| p.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
-    if ext(&args.input) != "txt" {
-        return Err(PrismError::invalid(format!("{}: expected a 6.837 scene (.txt)", args.input.display())).into());
+    let input_ext = ext(&args.input);
+    if input_ext != "txt" && input_ext != "pbrt" {
+        return Err(PrismError::invalid(format!(
+            "{}: expected a 6.837 scene (.txt) or a pbrt scene (.pbrt)",
+            args.input.display()
+        ))
+        .into());
     }
     if ext(&args.output) != "ron" {
         return Err(PrismError::invalid(format!("{}: the output must be a .ron file", args.output.display())).into());
@@ -27,7 +33,15 @@ pub fn run(args: ConvertArgs) -> anyhow::Result<()> {
         Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
         _ => PathBuf::from("."),
     };
-    let text = mit6837::convert_file(&args.input, &out_dir)?.ron;
+    let text = if input_ext == "pbrt" {
+        let c = pbrt::convert_file(&args.input, &out_dir)?;
+        for w in &c.warnings {
+            eprintln!("warning: {w}");
+        }
+        c.ron
+    } else {
+        mit6837::convert_file(&args.input, &out_dir)?.ron
+    };
     parse_scene(&text, &args.output)?;
     std::fs::write(&args.output, text).map_err(|e| PrismError::io(&args.output, e))?;
     Ok(())

@@ -7,6 +7,7 @@ mod materials;
 pub mod mit6837;
 mod inline_mesh;
 mod obj;
+pub mod pbrt;
 pub mod ply;
 mod ron_scene;
 mod spawn;
@@ -71,6 +72,16 @@ fn load_file(path: &Path, world: &mut World, res: &mut Resources) -> Result<File
         }
         "obj" => load_obj_scene(path, world, res),
         "ply" => load_ply_scene(path, world, res),
+        "pbrt" => {
+            // A pbrt scene: spawned through its RON equivalent (what `prism convert` writes).
+            let base = path.parent().unwrap_or(Path::new("."));
+            let converted = pbrt::convert_file(path, base)?;
+            for w in &converted.warnings {
+                eprintln!("warning: {w}");
+            }
+            let desc = parse_scene(&converted.ron, path)?;
+            spawn_scene(&desc, &converted.ron, path, base, world, res)
+        }
         "txt" => {
             // A 6.837 scene: spawned through its RON equivalent (what `prism convert` writes).
             let base = path.parent().unwrap_or(Path::new("."));
@@ -79,11 +90,11 @@ fn load_file(path: &Path, world: &mut World, res: &mut Resources) -> Result<File
             spawn_scene(&desc, &text, path, base, world, res)
         }
         "" => Err(PrismError::invalid(format!(
-            "{}: scene file has no extension (expected .ron, .obj or a 6.837 .txt)",
+            "{}: scene file has no extension (expected .ron, .obj, .ply, .pbrt or a 6.837 .txt)",
             path.display()
         ))),
         other => Err(PrismError::invalid(format!(
-            "{}: unsupported scene format '.{other}' (expected .ron, .obj or a 6.837 .txt)",
+            "{}: unsupported scene format '.{other}' (expected .ron, .obj, .ply, .pbrt or a 6.837 .txt)",
             path.display()
         ))),
     }
