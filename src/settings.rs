@@ -318,4 +318,6 @@ pub struct Overrides {
     pub accel: Option<AccelKind>,
     pub exposure: Option<f32>,
     pub shard: Option<(u32, u32)>,
+    /// The camera to render from, by name, in files that hold several (glTF).
+    pub camera: Option<String>,
 }

@@ -132,6 +132,7 @@ pub fn run(args: RaytracerArgs) -> anyhow::Result<()> {
         quiet: true,
         shard: None,
         resume: None,
+        camera: None,
     };
     if o.stats {
         let mut app = crate::App::with_default_plugins();

@@ -15,7 +15,7 @@ use std::time::{Duration, Instant};
 
 #[derive(Args, Debug, Clone)]
 pub struct RenderArgs {
-    /// Scene file: .ron (Prism scene) or .obj (mesh with an automatic camera and headlight).
+    /// Scene file: .ron (Prism scene), .obj or .ply (mesh with an automatic camera and headlight), .gltf/.glb, .pbrt, or a 6.837 .txt.
     pub scene: PathBuf,
     /// Output image(s); .png (sRGB), .exr (linear) or .tga (the 6.837 course's linear 8-bit). Repeat for several. Default: SCENE-NAME.png.
     #[arg(short, long = "output")]
@@ -69,6 +69,9 @@ pub struct RenderArgs {
     /// write it with `-o part.prism-film` and combine the parts with `prism merge`.
     #[arg(long, value_parser = parse_shard)]
     pub shard: Option<(u32, u32)>,
+    /// The camera to render from, by camera or node name, for scene files with several (glTF); default the first.
+    #[arg(long)]
+    pub camera: Option<String>,
     /// Continue the render saved in a `.prism-film` file (same scene and settings); the result equals an
     /// uninterrupted render bit for bit.
     #[arg(long)]
@@ -196,6 +199,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
         accel: accel_override(args.accel, args.grid.as_deref())?,
         exposure: args.exposure,
         shard: args.shard,
+        camera: args.camera.clone(),
     };
     r.outputs = outputs.clone();
     r.resume = args.resume.clone();

@@ -4,6 +4,7 @@
 pub mod desc;
 mod material_desc;
 mod materials;
+pub mod gltf;
 pub mod mit6837;
 mod inline_mesh;
 mod obj;
@@ -72,6 +73,10 @@ fn load_file(path: &Path, world: &mut World, res: &mut Resources) -> Result<File
         }
         "obj" => load_obj_scene(path, world, res),
         "ply" => load_ply_scene(path, world, res),
+        "gltf" | "glb" => {
+            res.materials.push(Material::default());
+            gltf::load_gltf(path, world, res)
+        }
         "pbrt" => {
             // A pbrt scene: spawned through its RON equivalent (what `prism convert` writes).
             let base = path.parent().unwrap_or(Path::new("."));
@@ -90,11 +95,11 @@ fn load_file(path: &Path, world: &mut World, res: &mut Resources) -> Result<File
             spawn_scene(&desc, &text, path, base, world, res)
         }
         "" => Err(PrismError::invalid(format!(
-            "{}: scene file has no extension (expected .ron, .obj, .ply, .pbrt or a 6.837 .txt)",
+            "{}: scene file has no extension (expected .ron, .obj, .ply, .gltf, .glb, .pbrt or a 6.837 .txt)",
             path.display()
         ))),
         other => Err(PrismError::invalid(format!(
-            "{}: unsupported scene format '.{other}' (expected .ron, .obj, .ply, .pbrt or a 6.837 .txt)",
+            "{}: unsupported scene format '.{other}' (expected .ron, .obj, .ply, .gltf, .glb, .pbrt or a 6.837 .txt)",
             path.display()
         ))),
     }
