@@ -179,6 +179,11 @@ fn min_element_bytes(e: &ElementDef, encoding: Encoding) -> u64 {
         .sum()
 }
 
+/// The crate's (multi-line) error as one line.
+fn one_line(e: &ply_rs_bw::parser::ParseError) -> String {
+    e.to_string().split_whitespace().collect::<Vec<_>>().join(" ")
+}
+
 /// Read a PLY file into a mesh (local frame; the file name as the mesh name).
 pub fn load_ply(path: &Path) -> Result<MeshData> {
     let bytes = std::fs::read(path).map_err(|e| PrismError::io(path, e))?;
@@ -192,7 +197,7 @@ pub fn parse_ply(bytes: &[u8], path: &Path) -> Result<MeshData> {
     let mut reader = Reader::new(Cursor::new(bytes));
     let header: Header = Parser::<Skip>::new()
         .read_header(&mut reader)
-        .map_err(|e| err(format!("bad PLY header: {e}")))?;
+        .map_err(|e| err(format!("bad PLY header: {}", one_line(&e))))?;
     let after_header = bytes.len() as u64 - reader.get_ref().position();
     // Everything the header declares must fit in the bytes that follow it, before anything is allocated.
     let mut needed: u64 = 0;
@@ -219,8 +224,8 @@ pub fn parse_ply(bytes: &[u8], path: &Path) -> Result<MeshData> {
     let mut faces: Vec<Face> = Vec::new();
     let mut face_seen = false;
     for (name, def) in &header.elements {
-        let short = |e: ply_rs_bw::parser::ParseError, done: usize| {
-            err(format!("`{name}` element data: {e} (the header declares {}, {done} read before the error)", def.count))
+        let short = |e: ply_rs_bw::parser::ParseError, _done: usize| {
+            err(format!("`{name}` element data (the header declares {}): {}", def.count, one_line(&e)))
         };
         match name.as_str() {
             "vertex" => {

@@ -11,6 +11,8 @@
 //! - emission = `emissiveFactor x emissiveTexture (sRGB) x KHR_materials_emissive_strength`: an area light on
 //!   the primitive with that (textured) radiance, two-sided when the material is; `occlusionTexture` is ignored
 //!   (a path tracer computes occlusion);
+//! - `KHR_materials_specular`: `specularFactor x specularColorFactor` scales the coat (the plastic's `specular`);
+//!   0 leaves the diffuse base alone: exactly `Lambert(albedo: base)` (its textures are reported and ignored);
 //! - `KHR_materials_transmission` + `KHR_materials_ior`: `Blend(a: the above, b: RoughDielectric(alpha, ior,
 //!   transmittance: base), weight: transmission)`;
 //! - `alphaMode` MASK (`alphaCutoff`, 0.5) and BLEND: an alpha cut-out (`Mask` / stochastic `Blend`) with
@@ -233,7 +235,23 @@ impl<'a> Materials<'a> {
         let mut descs: BTreeMap<String, MaterialDesc> = BTreeMap::new();
         let plastic = format!("{key}/dielectric");
         let metal = format!("{key}/metal");
-        descs.insert(plastic.clone(), MaterialDesc::RoughPlastic { alpha: alpha.clone(), ior: 1.5, diffuse: base.clone(), specular: ColorDesc::Rgb([1.0; 3]), two_sided });
+        let specular = match m.specular() {
+            Some(sp) => {
+                if sp.specular_texture().is_some() || sp.specular_color_texture().is_some() {
+                    self.warnings.insert(format!("{label}: KHR_materials_specular textures are ignored (factors used)"));
+                }
+                let c = sp.specular_color_factor();
+                let f = check(sp.specular_factor(), "specularFactor")?;
+                Vec3::new(check(c[0], "specularColorFactor")?, check(c[1], "specularColorFactor")?, check(c[2], "specularColorFactor")?) * f
+            }
+            None => Vec3::ONE,
+        };
+        let dielectric = if specular == Vec3::ZERO {
+            MaterialDesc::Lambert { albedo: base.clone(), two_sided }
+        } else {
+            MaterialDesc::RoughPlastic { alpha: alpha.clone(), ior: 1.5, diffuse: base.clone(), specular: ColorDesc::Rgb(specular.to_array()), two_sided }
+        };
+        descs.insert(plastic.clone(), dielectric);
         descs.insert(metal.clone(), MaterialDesc::RoughConductor { alpha: alpha.clone(), material: None, eta: None, k: None, reflectance: Some(base.clone()), scale: ColorDesc::Rgb([1.0; 3]), two_sided });
         let mut top = match metallic {
             ScalarDesc::Value(v) if v <= 0.0 => {
