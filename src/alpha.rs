@@ -83,8 +83,8 @@ impl Primitives {
         let uv = (1.0 - hit.b1 - hit.b2) * uvs[0] + hit.b1 * uvs[1] + hit.b2 * uvs[2];
         let a = mask.alpha(uv);
         match mask.mode {
-            AlphaMode::Mask { cutoff } => !(a >= cutoff),
-            AlphaMode::Blend => !(hash_unit(ray, hit.prim) < a),
+            AlphaMode::Mask { cutoff } => a < cutoff || a.is_nan(),
+            AlphaMode::Blend => hash_unit(ray, hit.prim) >= a || a.is_nan(),
         }
     }
 }

@@ -58,7 +58,7 @@ impl Scene {
             let s = self.prims.surface(&r, &h);
             let next = s.spawn(r.dir);
             let dt = (next.origin - ray.origin).dot(ray.dir) / ray.dir.length_squared();
-            if !(dt > t0) || dt >= ray.tmax {
+            if dt.is_nan() || dt <= t0 || dt >= ray.tmax {
                 return None;
             }
             t0 = dt;

@@ -26,10 +26,14 @@ struct Doc {
 
 impl Doc {
     fn view(&mut self, bytes: &[u8]) -> usize {
-        while self.buf.len() % 4 != 0 {
+        while !self.buf.len().is_multiple_of(4) {
             self.buf.push(0);
         }
-        self.views.push(format!("{{\"buffer\": 0, \"byteOffset\": {}, \"byteLength\": {}}}", self.buf.len(), bytes.len()));
+        self.views.push(format!(
+            "{{\"buffer\": 0, \"byteOffset\": {}, \"byteLength\": {}}}",
+            self.buf.len(),
+            bytes.len()
+        ));
         self.buf.extend_from_slice(bytes);
         self.views.len() - 1
     }
@@ -57,14 +61,20 @@ impl Doc {
         } else {
             String::new()
         };
-        self.accessors.push(format!("{{\"bufferView\": {view}, \"componentType\": 5126, \"count\": {}, \"type\": \"{ty}\"{bounds}}}", v.len() / n));
+        self.accessors.push(format!(
+            "{{\"bufferView\": {view}, \"componentType\": 5126, \"count\": {}, \"type\": \"{ty}\"{bounds}}}",
+            v.len() / n
+        ));
         self.accessors.len() - 1
     }
 
     fn indices(&mut self, v: &[u32]) -> usize {
         let bytes: Vec<u8> = v.iter().flat_map(|x| x.to_le_bytes()).collect();
         let view = self.view(&bytes);
-        self.accessors.push(format!("{{\"bufferView\": {view}, \"componentType\": 5125, \"count\": {}, \"type\": \"SCALAR\"}}", v.len()));
+        self.accessors.push(format!(
+            "{{\"bufferView\": {view}, \"componentType\": 5125, \"count\": {}, \"type\": \"SCALAR\"}}",
+            v.len()
+        ));
         self.accessors.len() - 1
     }
 
@@ -93,7 +103,11 @@ impl Doc {
             let _ = write!(s, ",\n\"cameras\": [{}]", list(&self.cameras));
         }
         if !self.lights.is_empty() {
-            let _ = write!(s, ",\n\"extensionsUsed\": [\"KHR_lights_punctual\", \"KHR_materials_specular\", \"KHR_materials_emissive_strength\"], \"extensions\": {{\"KHR_lights_punctual\": {{\"lights\": [{}]}}}}", list(&self.lights));
+            let _ = write!(
+                s,
+                ",\n\"extensionsUsed\": [\"KHR_lights_punctual\", \"KHR_materials_specular\", \"KHR_materials_emissive_strength\"], \"extensions\": {{\"KHR_lights_punctual\": {{\"lights\": [{}]}}}}",
+                list(&self.lights)
+            );
         } else {
             s.push_str(",\n\"extensionsUsed\": [\"KHR_materials_specular\", \"KHR_materials_emissive_strength\"]");
         }
@@ -120,7 +134,13 @@ fn diffuse(c: [f32; 3], double_sided: bool, emission: Option<[f32; 3]>) -> Strin
     );
     if let Some(e) = emission {
         let m = e.iter().cloned().fold(0.0, f32::max);
-        let _ = write!(s, ", \"KHR_materials_emissive_strength\": {{\"emissiveStrength\": {m}}}}}, \"emissiveFactor\": [{}, {}, {}]}}", e[0] / m, e[1] / m, e[2] / m);
+        let _ = write!(
+            s,
+            ", \"KHR_materials_emissive_strength\": {{\"emissiveStrength\": {m}}}}}, \"emissiveFactor\": [{}, {}, {}]}}",
+            e[0] / m,
+            e[1] / m,
+            e[2] / m
+        );
     } else {
         s.push_str("}}");
     }
@@ -165,14 +185,23 @@ fn cornell_gltf() -> PathBuf {
     d.nodes.push(node(quad_r, [-1.0, 0.0, 0.0], Some((y, 90.0)), [1.0; 3]));
     d.nodes.push(node(cube, [0.335, -0.7, 0.38], Some((y, -17.0)), [0.3; 3]));
     d.nodes.push(node(cube, [-0.33, -0.4, -0.28], Some((y, 18.25)), [0.3, 0.61, 0.3]));
-    d.cameras.push(format!("{{\"type\": \"perspective\", \"perspective\": {{\"yfov\": {}, \"aspectRatio\": 1, \"znear\": 0.01}}}}", 39.3077f32.to_radians()));
+    d.cameras.push(format!(
+        "{{\"type\": \"perspective\", \"perspective\": {{\"yfov\": {}, \"aspectRatio\": 1, \"znear\": 0.01}}}}",
+        39.3077f32.to_radians()
+    ));
     d.nodes.push("{\"camera\": 0, \"translation\": [0, 0, 3.9]}".into());
     d.write("cornell.gltf")
 }
 
 #[test]
 fn a_gltf_cornell_box_renders_like_the_ron_cornell_box_within_noise_and_stores_its_cube_once() {
-    let over = |seed| Overrides { size: Some((64, 64)), spp: Some(64), seed: Some(seed), integrator: Some("envlight(max_depth: 8)".into()), ..Default::default() };
+    let over = |seed| Overrides {
+        size: Some((64, 64)),
+        spp: Some(64),
+        seed: Some(seed),
+        integrator: Some("envlight(max_depth: 8)".into()),
+        ..Default::default()
+    };
     let ron = crate::common::scene_path("cornell_box.ron");
     let r0 = render_file(&ron, over(0));
     let r1 = render_file(&ron, over(1));
@@ -184,18 +213,34 @@ fn a_gltf_cornell_box_renders_like_the_ron_cornell_box_within_noise_and_stores_i
     assert_eq!(app.resources.meshes.len(), 5, "a mesh used by two nodes is stored once");
     let noise = compare(&r1, &r0).unwrap();
     let m = compare(&g, &r0).unwrap();
-    let mean = |img: &prism::io::Image| img.pixels.iter().map(|p| (p.x + p.y + p.z) as f64).sum::<f64>() / img.pixels.len() as f64;
+    let mean = |img: &prism::io::Image| {
+        img.pixels.iter().map(|p| (p.x + p.y + p.z) as f64).sum::<f64>() / img.pixels.len() as f64
+    };
     let (mg, mr) = (mean(&g), mean(&r0));
     assert!((mg - mr).abs() / mr < 0.01, "image means {mg} vs {mr}");
-    assert!(m.rmse <= 1.2 * noise.rmse + 1e-4, "glTF vs RON RMSE {} exceeds the noise between two RON seeds {}", m.rmse, noise.rmse);
+    assert!(
+        m.rmse <= 1.2 * noise.rmse + 1e-4,
+        "glTF vs RON RMSE {} exceeds the noise between two RON seeds {}",
+        m.rmse,
+        noise.rmse
+    );
 }
 
 #[test]
 fn every_sample_gltf_file_renders_and_the_gltf_and_glb_box_agree() {
-    let files = ["BoxTextured/BoxTextured.gltf", "BoxTextured-glb/BoxTextured.glb", "Box-embedded/Box.gltf", "NormalTangentTest.glb", "NormalTangentMirrorTest.glb"];
+    let files = [
+        "BoxTextured/BoxTextured.gltf",
+        "BoxTextured-glb/BoxTextured.glb",
+        "Box-embedded/Box.gltf",
+        "NormalTangentTest.glb",
+        "NormalTangentMirrorTest.glb",
+    ];
     let mut means = Vec::new();
     for f in files {
-        let img = render_file(&data(&format!("gltf/{f}")), Overrides { size: Some((32, 32)), spp: Some(2), ..Default::default() });
+        let img = render_file(
+            &data(&format!("gltf/{f}")),
+            Overrides { size: Some((32, 32)), spp: Some(2), ..Default::default() },
+        );
         assert!(img.pixels.iter().all(|p| p.is_finite()), "{f}");
         let m = img.pixels.iter().map(|p| p.x + p.y + p.z).sum::<f32>() / img.pixels.len() as f32;
         assert!(m > 0.1, "{f}: image mean {m}");
@@ -206,7 +251,10 @@ fn every_sample_gltf_file_renders_and_the_gltf_and_glb_box_agree() {
 
 #[test]
 fn supplied_tangents_agree_with_generated_mikktspace_tangents() {
-    let mut app = app_from_file(&data("gltf/NormalTangentMirrorTest.glb"), Overrides { size: Some((4, 4)), spp: Some(1), ..Default::default() });
+    let mut app = app_from_file(
+        &data("gltf/NormalTangentMirrorTest.glb"),
+        Overrides { size: Some((4, 4)), spp: Some(1), ..Default::default() },
+    );
     app.run().unwrap();
     let meshes = &app.resources.meshes;
     let (mut agree, mut total) = (0, 0);
@@ -237,8 +285,14 @@ fn punctual_lights_convert_candela_and_lux_at_683_lumens_per_watt() {
         d.materials.push(diffuse([1.0; 3], true, None));
         let q = d.mesh(&QUAD, &QUAD_IDX, 0);
         d.nodes.push(node(q, [0.0; 3], Some(([1.0, 0.0, 0.0], -90.0)), [10.0; 3]));
-        d.cameras.push("{\"type\": \"perspective\", \"perspective\": {\"yfov\": 0.01, \"aspectRatio\": 1, \"znear\": 0.01}}".into());
-        d.nodes.push(format!("{{\"camera\": 0, \"translation\": [0, 3, 0], \"rotation\": {:?}}}", [-(45f32.to_radians()).sin(), 0.0, 0.0, 45f32.to_radians().cos()]));
+        d.cameras.push(
+            "{\"type\": \"perspective\", \"perspective\": {\"yfov\": 0.01, \"aspectRatio\": 1, \"znear\": 0.01}}"
+                .into(),
+        );
+        d.nodes.push(format!(
+            "{{\"camera\": 0, \"translation\": [0, 3, 0], \"rotation\": {:?}}}",
+            [-(45f32.to_radians()).sin(), 0.0, 0.0, 45f32.to_radians().cos()]
+        ));
         d.lights.push(light.to_string());
         let mut n = node(0, t, r, [1.0; 3]);
         n = n.replace("\"mesh\": 0, ", "\"extensions\": {\"KHR_lights_punctual\": {\"light\": 0}}, ");
@@ -246,7 +300,15 @@ fn punctual_lights_convert_candela_and_lux_at_683_lumens_per_watt() {
         d.write("light.gltf")
     };
     let centre = |p: PathBuf| {
-        let img = render_file(&p, Overrides { size: Some((4, 4)), spp: Some(4), integrator: Some("envlight(max_depth: 2)".into()), ..Default::default() });
+        let img = render_file(
+            &p,
+            Overrides {
+                size: Some((4, 4)),
+                spp: Some(4),
+                integrator: Some("envlight(max_depth: 2)".into()),
+                ..Default::default()
+            },
+        );
         img.pixels.iter().map(|p| p.x as f64).sum::<f64>() / img.pixels.len() as f64
     };
     let pi = std::f64::consts::PI;
@@ -254,10 +316,15 @@ fn punctual_lights_convert_candela_and_lux_at_683_lumens_per_watt() {
     let point = centre(build("{\"type\": \"point\", \"intensity\": 683}", [0.0, 1.0, 0.0], None));
     assert!((point - 1.0 / pi).abs() < 0.01 / pi, "point: {point}");
     // 683 lux straight down: 1 W/m^2.
-    let sun = centre(build("{\"type\": \"directional\", \"intensity\": 683}", [0.0; 3], Some(([1.0, 0.0, 0.0], -90.0))));
+    let sun =
+        centre(build("{\"type\": \"directional\", \"intensity\": 683}", [0.0; 3], Some(([1.0, 0.0, 0.0], -90.0))));
     assert!((sun - 1.0 / pi).abs() < 0.01 / pi, "directional: {sun}");
     // A spot pointing down: full intensity inside its inner cone.
-    let spot = centre(build("{\"type\": \"spot\", \"intensity\": 683, \"spot\": {\"innerConeAngle\": 0.3, \"outerConeAngle\": 0.6}}", [0.0, 1.0, 0.0], Some(([1.0, 0.0, 0.0], -90.0))));
+    let spot = centre(build(
+        "{\"type\": \"spot\", \"intensity\": 683, \"spot\": {\"innerConeAngle\": 0.3, \"outerConeAngle\": 0.6}}",
+        [0.0, 1.0, 0.0],
+        Some(([1.0, 0.0, 0.0], -90.0)),
+    ));
     assert!((spot - 1.0 / pi).abs() < 0.01 / pi, "spot: {spot}");
 }
 
@@ -289,9 +356,16 @@ fn alpha_cutouts_let_shadow_rays_through_as_much_as_alpha_says() {
     assert!(mean(Some("")) < 0.01 * lit, "an opaque occluder casts a full shadow");
     let mask_hole = mean(Some(", alpha: (factor: 0.3, mode: Mask(cutoff: 0.5))"));
     assert!((mask_hole - lit).abs() < 0.02 * lit, "alpha below the cutoff is a hole: {mask_hole}");
-    assert!(mean(Some(", alpha: (factor: 0.8, mode: Mask(cutoff: 0.5))")) < 0.01 * lit, "alpha above the cutoff is opaque");
+    assert!(
+        mean(Some(", alpha: (factor: 0.8, mode: Mask(cutoff: 0.5))")) < 0.01 * lit,
+        "alpha above the cutoff is opaque"
+    );
     let blend = mean(Some(", alpha: (factor: 0.3, mode: Blend)"));
-    assert!((blend - 0.7 * lit).abs() < 0.03 * lit, "stochastic transparency passes 1 - alpha of the light: {blend} vs {}", 0.7 * lit);
+    assert!(
+        (blend - 0.7 * lit).abs() < 0.03 * lit,
+        "stochastic transparency passes 1 - alpha of the light: {blend} vs {}",
+        0.7 * lit
+    );
 }
 
 /// A valid one-triangle document as JSON, with the parts the malformed cases replace.
@@ -317,22 +391,53 @@ fn gltf_error(name: &str, bytes: &[u8], needle: &str) {
 fn malformed_gltf_files_are_one_line_errors() {
     let tri = [0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0];
     let ok = triangle(&tri, &[0, 1, 2]);
-    let mut app = app_from_file(&{
-        let p = scratch("gltf-bad").join("ok.gltf");
-        std::fs::write(&p, &ok).unwrap();
-        p
-    }, Overrides { size: Some((4, 4)), spp: Some(1), ..Default::default() });
+    let mut app = app_from_file(
+        &{
+            let p = scratch("gltf-bad").join("ok.gltf");
+            std::fs::write(&p, &ok).unwrap();
+            p
+        },
+        Overrides { size: Some((4, 4)), spp: Some(1), ..Default::default() },
+    );
     app.run().expect("the unmodified document loads");
     let glb = std::fs::read(data("gltf/BoxTextured-glb/BoxTextured.glb")).unwrap();
     gltf_error("truncated.glb", &glb[..glb.len() / 2], "GLB");
-    gltf_error("syntax.gltf", ok[..ok.len() - 30].as_bytes(), "syntax.gltf:");
-    gltf_error("range.gltf", ok.replacen("\"count\": 3, \"type\": \"VEC3\"", "\"count\": 300, \"type\": \"VEC3\"", 1).as_bytes(), "overrun");
-    gltf_error("type.gltf", ok.replacen("\"componentType\": 5126, \"count\": 3, \"type\": \"VEC3\"", "\"componentType\": 5123, \"count\": 3, \"type\": \"VEC3\"", 1).as_bytes(), "not allowed");
-    gltf_error("buffer.gltf", ok.replacen("data:application/octet-stream;base64,", "missing.bin#", 1).as_bytes(), "buffer 0");
+    gltf_error("syntax.gltf", &ok.as_bytes()[..ok.len() - 30], "syntax.gltf:");
+    gltf_error(
+        "range.gltf",
+        ok.replacen("\"count\": 3, \"type\": \"VEC3\"", "\"count\": 300, \"type\": \"VEC3\"", 1).as_bytes(),
+        "overrun",
+    );
+    gltf_error(
+        "type.gltf",
+        ok.replacen(
+            "\"componentType\": 5126, \"count\": 3, \"type\": \"VEC3\"",
+            "\"componentType\": 5123, \"count\": 3, \"type\": \"VEC3\"",
+            1,
+        )
+        .as_bytes(),
+        "not allowed",
+    );
+    gltf_error(
+        "buffer.gltf",
+        ok.replacen("data:application/octet-stream;base64,", "missing.bin#", 1).as_bytes(),
+        "buffer 0",
+    );
     gltf_error("overflow.gltf", triangle(&tri, &[0, 1, 7]).as_bytes(), "index 2 is 7");
     gltf_error("nan.gltf", triangle(&[0.0, f32::NAN, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0], &[0, 1, 2]).as_bytes(), "NaN");
-    gltf_error("required.gltf", ok.replacen("\"scene\": 0,", "\"extensionsRequired\": [\"KHR_draco_mesh_compression\"], \"scene\": 0,", 1).as_bytes(), "KHR_draco_mesh_compression");
+    gltf_error(
+        "required.gltf",
+        ok.replacen("\"scene\": 0,", "\"extensionsRequired\": [\"KHR_draco_mesh_compression\"], \"scene\": 0,", 1)
+            .as_bytes(),
+        "KHR_draco_mesh_compression",
+    );
     gltf_error("reference.gltf", ok.replacen("{\"mesh\": 0}", "{\"mesh\": 5}", 1).as_bytes(), "invalid glTF");
-    let with_image = ok.replacen("\"metallicFactor\": 0,", "\"metallicFactor\": 0, \"baseColorTexture\": {\"index\": 0},", 1).replacen("\"scene\": 0,", "\"scene\": 0, \"textures\": [{\"source\": 0}], \"images\": [{\"uri\": \"nope.png\"}],", 1);
+    let with_image = ok
+        .replacen("\"metallicFactor\": 0,", "\"metallicFactor\": 0, \"baseColorTexture\": {\"index\": 0},", 1)
+        .replacen(
+            "\"scene\": 0,",
+            "\"scene\": 0, \"textures\": [{\"source\": 0}], \"images\": [{\"uri\": \"nope.png\"}],",
+            1,
+        );
     gltf_error("image.gltf", with_image.as_bytes(), "image 0 (nope.png)");
 }

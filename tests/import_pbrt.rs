@@ -60,7 +60,11 @@ fn the_caustic_glass_files_convert_with_the_integrator_iterations_and_crop_they_
         }
         // fov 30 of the shorter (horizontal) axis of a portrait image.
         let expect = 2.0 * ((15f64).to_radians().tan() * size.1 as f64 / size.0 as f64).atan().to_degrees();
-        let full = if file.starts_with("f16-11") { 2.0 * ((15f64).to_radians().tan() * 2000.0 / 1400.0).atan().to_degrees() } else { expect };
+        let full = if file.starts_with("f16-11") {
+            2.0 * ((15f64).to_radians().tan() * 2000.0 / 1400.0).atan().to_degrees()
+        } else {
+            expect
+        };
         assert!((cam.fov as f64 - full).abs() < 1e-3, "{file}: fov {} vs {full}", cam.fov);
     }
 }
@@ -91,7 +95,8 @@ fn the_caustic_glass_scene_renders_with_photon_mapping_and_a_caustic_under_the_g
     // the glass makes parts of the shadow brighter than the open, spot-lit floor beside it.
     let px = |x: u32, y: u32| img.pixels[(y * img.width + x) as usize];
     let lum = |p: glam::Vec3| 0.2126 * p.x + 0.7152 * p.y + 0.0722 * p.z;
-    let shadow_max = (40..90).flat_map(|y| (5..40).map(move |x| (x, y))).map(|(x, y)| lum(px(x, y))).fold(0.0, f32::max);
+    let shadow_max =
+        (40..90).flat_map(|y| (5..40).map(move |x| (x, y))).map(|(x, y)| lum(px(x, y))).fold(0.0, f32::max);
     let lit_floor = (40..60).map(|y| lum(px(65, y))).sum::<f32>() / 20.0;
     assert!(shadow_max > lit_floor, "no caustic brighter than the directly lit floor: {shadow_max} vs {lit_floor}");
 }
@@ -110,7 +115,10 @@ fn a_lookat_camera_sees_up_cross_view_on_the_right_as_pbrt_does() {
     );
     let img = render_file(&write("handed.pbrt", &text), spp(1));
     let half = |right: bool| {
-        (0..16u32).flat_map(|y| (0..8u32).map(move |x| (x, y))).map(|(x, y)| img.pixels[(y * 16 + if right { x + 8 } else { x }) as usize].x).sum::<f32>()
+        (0..16u32)
+            .flat_map(|y| (0..8u32).map(move |x| (x, y)))
+            .map(|(x, y)| img.pixels[(y * 16 + if right { x + 8 } else { x }) as usize].x)
+            .sum::<f32>()
     };
     assert!(half(true) > 10.0 && half(false) == 0.0, "right {} left {}", half(true), half(false));
 }
@@ -118,7 +126,11 @@ fn a_lookat_camera_sees_up_cross_view_on_the_right_as_pbrt_does() {
 #[test]
 fn transforms_objects_instances_and_includes_place_shapes_where_pbrt_does() {
     let dir = scratch("pbrt-include");
-    std::fs::write(dir.join("part.pbrt"), "AttributeBegin\nTranslate 0 0 3\nShape \"sphere\" \"float radius\" 0.25\nAttributeEnd\n").unwrap();
+    std::fs::write(
+        dir.join("part.pbrt"),
+        "AttributeBegin\nTranslate 0 0 3\nShape \"sphere\" \"float radius\" 0.25\nAttributeEnd\n",
+    )
+    .unwrap();
     let text = format!(
         "{HEAD_V4}WorldBegin\nObjectBegin \"ball\"\nTranslate 1 0 0\nShape \"sphere\" \"float radius\" 0.5\nObjectEnd\n\
          AttributeBegin\nTranslate 0 2 0\nObjectInstance \"ball\"\nAttributeEnd\n\
@@ -131,9 +143,15 @@ fn transforms_objects_instances_and_includes_place_shapes_where_pbrt_does() {
     let mut app = app_from_file(&path, spp(1));
     app.run().unwrap();
     let prims = &app.resources.scene.as_ref().unwrap().prims;
-    let mut got: Vec<(glam::Vec3, f32)> = prims.spheres.iter().map(|s| (glam::Vec3::from(s.center), s.radius)).collect();
+    let mut got: Vec<(glam::Vec3, f32)> =
+        prims.spheres.iter().map(|s| (glam::Vec3::from(s.center), s.radius)).collect();
     got.sort_by(|a, b| a.0.to_array().partial_cmp(&b.0.to_array()).unwrap());
-    let want = [(glam::Vec3::new(0.0, 0.0, -1.0), 2.0), (glam::Vec3::new(0.0, 0.0, 3.0), 0.25), (glam::Vec3::new(0.0, 1.0, 0.0), 0.5), (glam::Vec3::new(1.0, 2.0, 0.0), 0.5)];
+    let want = [
+        (glam::Vec3::new(0.0, 0.0, -1.0), 2.0),
+        (glam::Vec3::new(0.0, 0.0, 3.0), 0.25),
+        (glam::Vec3::new(0.0, 1.0, 0.0), 0.5),
+        (glam::Vec3::new(1.0, 2.0, 0.0), 0.5),
+    ];
     assert_eq!(got.len(), 4, "{got:?}");
     for ((c, r), (wc, wr)) in got.iter().zip(want) {
         assert!((*c - wc).length() < 1e-5 && (r - wr).abs() < 1e-5, "{got:?}");
@@ -162,13 +180,22 @@ fn materials_map_to_prism_with_each_versions_roughness_remapping() {
         other => panic!("{other:?}"),
     }
     assert!(matches!(material(&d, "named:m"), MaterialDesc::RoughConductor { material: Some(m), .. } if m == "Cu"));
-    assert!(matches!(material(&d, "named:g"), MaterialDesc::RoughDielectric { ior, alpha: ScalarDesc::Value(a), .. } if (*ior - 1.33).abs() < 1e-6 && *a == 0.0));
-    assert!(matches!(material(&d, "named:u"), MaterialDesc::Lambert { .. }), "uber with index 1 reflects nothing specular");
+    assert!(
+        matches!(material(&d, "named:g"), MaterialDesc::RoughDielectric { ior, alpha: ScalarDesc::Value(a), .. } if (*ior - 1.33).abs() < 1e-6 && *a == 0.0)
+    );
+    assert!(
+        matches!(material(&d, "named:u"), MaterialDesc::Lambert { .. }),
+        "uber with index 1 reflects nothing specular"
+    );
     assert!(matches!(material(&d, "named:x"), MaterialDesc::Blend { weight: ScalarDesc::Value(w), .. } if *w == 0.25));
-    let v4 = format!("{HEAD_V4}WorldBegin\nMakeNamedMaterial \"c\" \"string type\" \"coateddiffuse\" \"float roughness\" 0.04\n");
+    let v4 = format!(
+        "{HEAD_V4}WorldBegin\nMakeNamedMaterial \"c\" \"string type\" \"coateddiffuse\" \"float roughness\" 0.04\n"
+    );
     let ron = ron_of(&write("mat4.pbrt", &v4));
     match material(&desc(&ron), "named:c") {
-        MaterialDesc::RoughPlastic { alpha: ScalarDesc::Value(a), .. } => assert!((a - 0.2).abs() < 1e-6, "pbrt-v4: sqrt(0.04), got {a}"),
+        MaterialDesc::RoughPlastic { alpha: ScalarDesc::Value(a), .. } => {
+            assert!((a - 0.2).abs() < 1e-6, "pbrt-v4: sqrt(0.04), got {a}")
+        }
         other => panic!("{other:?}"),
     }
 }
@@ -176,8 +203,16 @@ fn materials_map_to_prism_with_each_versions_roughness_remapping() {
 #[test]
 fn spot_lights_take_their_versions_falloff_and_every_profile_has_its_exact_power() {
     let spot = "LightSource \"spot\" \"point3 from\" [0 5 0] \"point3 to\" [0 0 0] \"float coneangle\" 40 \"float conedeltaangle\" 10\n";
-    for (head, want) in [(format!("{HEAD_V4}WorldBegin\n"), SpotProfile::Smoothstep), (format!("{}WorldBegin\n", HEAD_V4.replace("ColorSpace \"srgb\"\n", "").replace("point3", "point")) + "WorldEnd\n", SpotProfile::Quartic)] {
-        let text = format!("{head}{}", spot.replace("point3", if want == SpotProfile::Quartic { "point" } else { "point3" }));
+    for (head, want) in [
+        (format!("{HEAD_V4}WorldBegin\n"), SpotProfile::Smoothstep),
+        (
+            format!("{}WorldBegin\n", HEAD_V4.replace("ColorSpace \"srgb\"\n", "").replace("point3", "point"))
+                + "WorldEnd\n",
+            SpotProfile::Quartic,
+        ),
+    ] {
+        let text =
+            format!("{head}{}", spot.replace("point3", if want == SpotProfile::Quartic { "point" } else { "point3" }));
         let ron = ron_of(&write("spot.pbrt", &text));
         let d = desc(&ron);
         let profile = d.entities.iter().find_map(|e| match &e.light {
@@ -243,7 +278,11 @@ fn pbrt_error(text: &str, line_col: &str, needle: &str) {
 fn malformed_pbrt_files_are_one_line_errors_with_file_line_and_column() {
     let w = "LookAt 0 0 -5 0 0 0 0 1 0\nCamera \"perspective\"\nWorldBegin\n";
     pbrt_error(&format!("{w}Shape \"sphere\"\nFrobnicate 1 2\n"), "5:1", "unknown directive `Frobnicate`");
-    pbrt_error(&format!("{w}AttributeBegin\nAttributeEnd\nAttributeEnd\n"), "6:1", "AttributeEnd without a matching AttributeBegin");
+    pbrt_error(
+        &format!("{w}AttributeBegin\nAttributeEnd\nAttributeEnd\n"),
+        "6:1",
+        "AttributeEnd without a matching AttributeBegin",
+    );
     pbrt_error(&format!("{w}AttributeBegin\n"), "4:1", "AttributeBegin is never closed");
     pbrt_error(&format!("{w}TransformBegin\nAttributeEnd\n"), "5:1", "closes the TransformBegin");
     pbrt_error("LookAt 0 0 -5 0 0 0 0 1\nCamera \"perspective\"\n", "2:1", "LookAt expects 9 numbers");
@@ -251,12 +290,20 @@ fn malformed_pbrt_files_are_one_line_errors_with_file_line_and_column() {
     pbrt_error("Camera \"perspective\" \"string fov\" \"wide\"\nWorldBegin\n", "1:22", "should be of type float");
     pbrt_error("Shape \"sphere\"\n", "1:1", "before WorldBegin");
     pbrt_error(&format!("{w}Shape \"plymesh\" \"string filename\" \"missing.ply\"\n"), "4:17", "file not found");
-    pbrt_error(&format!("{w}Shape \"trianglemesh\" \"point3 P\" [0 0 0 1 0 0 0 1 0] \"integer indices\" [0 1 3]\n"), "4:1", "out of range");
+    pbrt_error(
+        &format!("{w}Shape \"trianglemesh\" \"point3 P\" [0 0 0 1 0 0 0 1 0] \"integer indices\" [0 1 3]\n"),
+        "4:1",
+        "out of range",
+    );
     pbrt_error(&format!("{w}NamedMaterial \"nope\"\n"), "4:1", "unknown material \"nope\"");
     pbrt_error(&format!("{w}Shape \"sphere\" \"float radius\" [1\n"), "4:16", "missing `]`");
     pbrt_error(&format!("{w}Material \"matte\" \"string Kd\n"), "4:18", "unterminated string");
     pbrt_error(&format!("{w}Include \"nowhere.pbrt\"\n"), "4:1", "file not found");
-    pbrt_error(&format!("{w}Texture \"t\" \"spectrum\" \"imagemap\" \"string filename\" \"none.png\"\n"), "4:", "image not found");
+    pbrt_error(
+        &format!("{w}Texture \"t\" \"spectrum\" \"imagemap\" \"string filename\" \"none.png\"\n"),
+        "4:",
+        "image not found",
+    );
     pbrt_error("LookAt 0 0 -5 0 0 0 0 1 0\nIntegrator \"nonsense\"\nWorldBegin\n", "2:1", "unknown integrator");
 }
 
@@ -264,7 +311,12 @@ fn malformed_pbrt_files_are_one_line_errors_with_file_line_and_column() {
 fn a_pbrt_scene_renders_through_the_cli_and_converts_to_a_ron_file_that_loads() {
     let dir = scratch("pbrt-cli");
     let out = dir.join("glass.ron");
-    let o = crate::common::prism(&["convert", data("caustic_glass/f16-9a.pbrt").to_str().unwrap(), "-o", out.to_str().unwrap()]);
+    let o = crate::common::prism(&[
+        "convert",
+        data("caustic_glass/f16-9a.pbrt").to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let img = render_file(&out, Overrides { size: Some((14, 20)), spp: Some(1), ..Default::default() });
     assert!(img.pixels.iter().any(|p| p.x > 0.0));

@@ -33,7 +33,9 @@ fn square_ply(encoding: &str) -> Vec<u8> {
     }
     for f in faces {
         if encoding == "ascii" {
-            out.extend(format!("{} {}\n", f.len(), f.iter().map(|i| i.to_string()).collect::<Vec<_>>().join(" ")).bytes());
+            out.extend(
+                format!("{} {}\n", f.len(), f.iter().map(|i| i.to_string()).collect::<Vec<_>>().join(" ")).bytes(),
+            );
         } else {
             out.push(f.len() as u8);
             for i in f {

@@ -118,7 +118,7 @@ impl AreaLight {
                 let r = prims.spheres[*index as usize].radius;
                 for _ in 0..4 {
                     strata(&mut |u| {
-                        let (uv, ..) = sphere_uv(warp::uniform_sphere(u).into(), r);
+                        let (uv, ..) = sphere_uv(warp::uniform_sphere(u), r);
                         sum += self.radiance_at(uv).as_dvec3();
                         weight += 1.0;
                     });
@@ -127,7 +127,11 @@ impl AreaLight {
         }
         let mean = if weight > 0.0 { (sum / weight).as_vec3() } else { Vec3::ZERO };
         // The mean relative to the constant factor (the factor itself enters `power` separately).
-        Vec3::select(self.radiance.cmpgt(Vec3::ZERO), mean / self.radiance.max(Vec3::splat(f32::MIN_POSITIVE)), Vec3::ZERO)
+        Vec3::select(
+            self.radiance.cmpgt(Vec3::ZERO),
+            mean / self.radiance.max(Vec3::splat(f32::MIN_POSITIVE)),
+            Vec3::ZERO,
+        )
     }
 
     /// Total surface area (exact for triangle sets and spheres; for ellipsoids the area integral by a 256 x 512
@@ -276,16 +280,7 @@ impl AreaLight {
         if cos_l == 0.0 || (!self.two_sided && cos_l < 0.0) {
             return None;
         }
-        Some(LightSample {
-            p: q,
-            p_err: q_err,
-            n,
-            wi,
-            dist,
-            li,
-            pdf: pdf_area * dist2 / cos_l.abs(),
-            delta: false,
-        })
+        Some(LightSample { p: q, p_err: q_err, n, wi, dist, li, pdf: pdf_area * dist2 / cos_l.abs(), delta: false })
     }
 
     /// A light sample seen from `p` for next-event estimation (solid-angle pdf).

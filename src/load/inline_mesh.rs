@@ -75,9 +75,8 @@ pub(super) fn alpha_mask(
     let texture = match &a.texture {
         None => None,
         Some(name) => {
-            let id = textures
-                .get(name)
-                .ok_or_else(|| PrismError::scene(ctx, format!("alpha: unknown texture '{name}'")))?;
+            let id =
+                textures.get(name).ok_or_else(|| PrismError::scene(ctx, format!("alpha: unknown texture '{name}'")))?;
             match set.get(*id) {
                 Texture::Image(m) => Some(m.clone()),
                 Texture::Solid(_) => {

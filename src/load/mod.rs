@@ -2,11 +2,11 @@
 //! the render settings from the file and the command-line overrides.
 
 pub mod desc;
+pub mod gltf;
+mod inline_mesh;
 mod material_desc;
 mod materials;
-pub mod gltf;
 pub mod mit6837;
-mod inline_mesh;
 mod obj;
 pub mod pbrt;
 pub mod ply;
@@ -109,7 +109,8 @@ fn load_file(path: &Path, world: &mut World, res: &mut Resources) -> Result<File
 fn load_ply_scene(path: &Path, world: &mut World, res: &mut Resources) -> Result<FileSettings> {
     res.materials.push(Material::default());
     let mesh = ply::load_ply(path)?;
-    let (lo, hi) = mesh.positions.iter().fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), p| (lo.min(*p), hi.max(*p)));
+    let (lo, hi) =
+        mesh.positions.iter().fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), p| (lo.min(*p), hi.max(*p)));
     let name = Name(mesh.name.clone());
     let h = res.meshes.add(mesh);
     world.spawn((name, Shape::Mesh(h)));

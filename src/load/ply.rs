@@ -195,9 +195,8 @@ pub fn load_ply(path: &Path) -> Result<MeshData> {
 pub fn parse_ply(bytes: &[u8], path: &Path) -> Result<MeshData> {
     let err = |m: String| PrismError::format(path, m);
     let mut reader = Reader::new(Cursor::new(bytes));
-    let header: Header = Parser::<Skip>::new()
-        .read_header(&mut reader)
-        .map_err(|e| err(format!("bad PLY header: {}", one_line(&e))))?;
+    let header: Header =
+        Parser::<Skip>::new().read_header(&mut reader).map_err(|e| err(format!("bad PLY header: {}", one_line(&e))))?;
     let after_header = bytes.len() as u64 - reader.get_ref().position();
     // Everything the header declares must fit in the bytes that follow it, before anything is allocated.
     let mut needed: u64 = 0;
@@ -219,7 +218,8 @@ pub fn parse_ply(bytes: &[u8], path: &Path) -> Result<MeshData> {
         return Err(err("the `vertex` element has no x, y, z properties".into()));
     }
     let has_normals = has(&["nx", "ny", "nz"]);
-    let has_uvs = has(&["u", "v"]) || has(&["s", "t"]) || has(&["texture_u", "texture_v"]) || has(&["texture_s", "texture_t"]);
+    let has_uvs =
+        has(&["u", "v"]) || has(&["s", "t"]) || has(&["texture_u", "texture_v"]) || has(&["texture_s", "texture_t"]);
     let mut vertices: Vec<Vertex> = Vec::new();
     let mut faces: Vec<Face> = Vec::new();
     let mut face_seen = false;

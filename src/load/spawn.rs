@@ -160,7 +160,13 @@ pub fn camera_component(c: &CameraDesc, ctx: &str) -> Result<Camera> {
         return Err(PrismError::scene(ctx, format!("aperture_radius must be >= 0, got {}", c.aperture_radius)));
     }
     if let Some(w) = c.crop
-        && !(w.iter().all(|v| v.is_finite()) && 0.0 <= w[0] && w[0] < w[2] && w[2] <= 1.0 && 0.0 <= w[1] && w[1] < w[3] && w[3] <= 1.0)
+        && !(w.iter().all(|v| v.is_finite())
+            && 0.0 <= w[0]
+            && w[0] < w[2]
+            && w[2] <= 1.0
+            && 0.0 <= w[1]
+            && w[1] < w[3]
+            && w[3] <= 1.0)
     {
         return Err(PrismError::scene(
             ctx,
@@ -192,9 +198,10 @@ impl Spawner<'_> {
 
     /// An image texture of `textures` for an area light's emission.
     fn emission_texture(&self, name: &str, ctx: &str) -> Result<crate::texture::ImageMap> {
-        let id = self.textures.get(name).ok_or_else(|| {
-            PrismError::scene(ctx, format!("area light: unknown texture '{name}'"))
-        })?;
+        let id = self
+            .textures
+            .get(name)
+            .ok_or_else(|| PrismError::scene(ctx, format!("area light: unknown texture '{name}'")))?;
         match self.res.textures.get(*id) {
             crate::texture::Texture::Image(m) => Ok(m.clone()),
             crate::texture::Texture::Solid(_) => {

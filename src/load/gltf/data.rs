@@ -149,7 +149,11 @@ pub fn read_accessor(
         return Err(err(format!(
             "component type {t:?}{} is not allowed here (expected {})",
             if norm { " normalised" } else { "" },
-            allowed.iter().map(|(t, n)| format!("{t:?}{}", if *n { " normalised" } else { "" })).collect::<Vec<_>>().join(" or ")
+            allowed
+                .iter()
+                .map(|(t, n)| format!("{t:?}{}", if *n { " normalised" } else { "" }))
+                .collect::<Vec<_>>()
+                .join(" or ")
         )));
     }
     let count = a.count();
@@ -202,7 +206,10 @@ pub fn read_accessor(
         let iv = buffers.view(&s.indices().view(), what, file)?;
         let vv = buffers.view(&s.values().view(), what, file)?;
         let isz = s.indices().index_type().size();
-        let (ie, ve) = (sc.checked_mul(isz).and_then(|x| x.checked_add(s.indices().offset())), sc.checked_mul(elem).and_then(|x| x.checked_add(s.values().offset())));
+        let (ie, ve) = (
+            sc.checked_mul(isz).and_then(|x| x.checked_add(s.indices().offset())),
+            sc.checked_mul(elem).and_then(|x| x.checked_add(s.values().offset())),
+        );
         if !matches!(ie, Some(e) if e <= iv.len()) || !matches!(ve, Some(e) if e <= vv.len()) {
             return Err(err(format!("sparse data of {sc} elements overruns its buffer views")));
         }

@@ -71,7 +71,9 @@ pub struct Materials<'a> {
 fn image_what(img: &gltf::Image) -> String {
     match (img.name(), img.source()) {
         (Some(n), _) => format!("image {} '{n}'", img.index()),
-        (None, gltf::image::Source::Uri { uri, .. }) if !uri.starts_with("data:") => format!("image {} ({uri})", img.index()),
+        (None, gltf::image::Source::Uri { uri, .. }) if !uri.starts_with("data:") => {
+            format!("image {} ({uri})", img.index())
+        }
         _ => format!("image {}", img.index()),
     }
 }
@@ -140,7 +142,8 @@ impl<'a> Materials<'a> {
         };
         let s = tex.sampler();
         if s.wrap_s() != s.wrap_t() {
-            self.warnings.insert(format!("texture {}: different wrap modes in s and t; using wrapS for both", tex.index()));
+            self.warnings
+                .insert(format!("texture {}: different wrap modes in s and t; using wrapS for both", tex.index()));
         }
         let (mut uv_scale, mut uv_offset) = (Vec2::ONE, Vec2::ZERO);
         if let Some((offset, rotation, scale)) = info.transform {
@@ -211,10 +214,18 @@ impl<'a> Materials<'a> {
             }
         };
         let bc = pbr.base_color_factor();
-        let base_rgb = Vec3::new(check(bc[0], "baseColorFactor")?, check(bc[1], "baseColorFactor")?, check(bc[2], "baseColorFactor")?);
+        let base_rgb = Vec3::new(
+            check(bc[0], "baseColorFactor")?,
+            check(bc[1], "baseColorFactor")?,
+            check(bc[2], "baseColorFactor")?,
+        );
         let base = match &base_info {
             Some(i) => match self.named_texture(i, Variant::Srgb, res)? {
-                Some(n) => ColorDesc::Texture(TextureRef::Map { texture: n, scale: Some(ScaleDesc::Rgb(base_rgb.to_array())), channel: None }),
+                Some(n) => ColorDesc::Texture(TextureRef::Map {
+                    texture: n,
+                    scale: Some(ScaleDesc::Rgb(base_rgb.to_array())),
+                    channel: None,
+                }),
                 None => ColorDesc::Rgb(base_rgb.to_array()),
             },
             None => ColorDesc::Rgb(base_rgb.to_array()),
@@ -226,8 +237,16 @@ impl<'a> Materials<'a> {
                 let raw = self.named_texture(i, Variant::Raw, res)?.expect("RGB");
                 let ra = self.named_texture(i, Variant::RoughnessAlpha, res)?.expect("RGB");
                 (
-                    ScalarDesc::Texture(TextureRef::Map { texture: raw, scale: Some(ScaleDesc::Uniform(metallic_f)), channel: Some(Channel::B) }),
-                    ScalarDesc::Texture(TextureRef::Map { texture: ra, scale: Some(ScaleDesc::Uniform(rough_f * rough_f)), channel: Some(Channel::R) }),
+                    ScalarDesc::Texture(TextureRef::Map {
+                        texture: raw,
+                        scale: Some(ScaleDesc::Uniform(metallic_f)),
+                        channel: Some(Channel::B),
+                    }),
+                    ScalarDesc::Texture(TextureRef::Map {
+                        texture: ra,
+                        scale: Some(ScaleDesc::Uniform(rough_f * rough_f)),
+                        channel: Some(Channel::R),
+                    }),
                 )
             }
             None => (ScalarDesc::Value(metallic_f), ScalarDesc::Value(rough_f * rough_f)),
@@ -238,21 +257,43 @@ impl<'a> Materials<'a> {
         let specular = match m.specular() {
             Some(sp) => {
                 if sp.specular_texture().is_some() || sp.specular_color_texture().is_some() {
-                    self.warnings.insert(format!("{label}: KHR_materials_specular textures are ignored (factors used)"));
+                    self.warnings
+                        .insert(format!("{label}: KHR_materials_specular textures are ignored (factors used)"));
                 }
                 let c = sp.specular_color_factor();
                 let f = check(sp.specular_factor(), "specularFactor")?;
-                Vec3::new(check(c[0], "specularColorFactor")?, check(c[1], "specularColorFactor")?, check(c[2], "specularColorFactor")?) * f
+                Vec3::new(
+                    check(c[0], "specularColorFactor")?,
+                    check(c[1], "specularColorFactor")?,
+                    check(c[2], "specularColorFactor")?,
+                ) * f
             }
             None => Vec3::ONE,
         };
         let dielectric = if specular == Vec3::ZERO {
             MaterialDesc::Lambert { albedo: base.clone(), two_sided }
         } else {
-            MaterialDesc::RoughPlastic { alpha: alpha.clone(), ior: 1.5, diffuse: base.clone(), specular: ColorDesc::Rgb(specular.to_array()), two_sided }
+            MaterialDesc::RoughPlastic {
+                alpha: alpha.clone(),
+                ior: 1.5,
+                diffuse: base.clone(),
+                specular: ColorDesc::Rgb(specular.to_array()),
+                two_sided,
+            }
         };
         descs.insert(plastic.clone(), dielectric);
-        descs.insert(metal.clone(), MaterialDesc::RoughConductor { alpha: alpha.clone(), material: None, eta: None, k: None, reflectance: Some(base.clone()), scale: ColorDesc::Rgb([1.0; 3]), two_sided });
+        descs.insert(
+            metal.clone(),
+            MaterialDesc::RoughConductor {
+                alpha: alpha.clone(),
+                material: None,
+                eta: None,
+                k: None,
+                reflectance: Some(base.clone()),
+                scale: ColorDesc::Rgb([1.0; 3]),
+                two_sided,
+            },
+        );
         let mut top = match metallic {
             ScalarDesc::Value(v) if v <= 0.0 => {
                 descs.remove(&metal);
@@ -273,7 +314,11 @@ impl<'a> Materials<'a> {
             let weight = match &trans_info {
                 Some(i) => {
                     let n = self.named_texture(i, Variant::Raw, res)?.expect("RGB");
-                    Some(ScalarDesc::Texture(TextureRef::Map { texture: n, scale: Some(ScaleDesc::Uniform(f)), channel: Some(Channel::R) }))
+                    Some(ScalarDesc::Texture(TextureRef::Map {
+                        texture: n,
+                        scale: Some(ScaleDesc::Uniform(f)),
+                        channel: Some(Channel::R),
+                    }))
                 }
                 None if f > 0.0 => Some(ScalarDesc::Value(f)),
                 None => None,
@@ -281,10 +326,21 @@ impl<'a> Materials<'a> {
             if let Some(w) = weight {
                 let ior = m.ior().unwrap_or(1.5);
                 if !(ior.is_finite() && ior >= 1.0) {
-                    return Err(PrismError::format(&self.file, format!("{label}: KHR_materials_ior must be >= 1, got {ior}")));
+                    return Err(PrismError::format(
+                        &self.file,
+                        format!("{label}: KHR_materials_ior must be >= 1, got {ior}"),
+                    ));
                 }
                 let glass = format!("{key}/transmission");
-                descs.insert(glass.clone(), MaterialDesc::RoughDielectric { alpha: alpha.clone(), ior, reflectance: ColorDesc::Rgb([1.0; 3]), transmittance: base.clone() });
+                descs.insert(
+                    glass.clone(),
+                    MaterialDesc::RoughDielectric {
+                        alpha: alpha.clone(),
+                        ior,
+                        reflectance: ColorDesc::Rgb([1.0; 3]),
+                        transmittance: base.clone(),
+                    },
+                );
                 let n = format!("{key}/transmissive");
                 descs.insert(n.clone(), MaterialDesc::Blend { a: top, b: glass, weight: w });
                 top = n;
@@ -295,7 +351,15 @@ impl<'a> Materials<'a> {
             && let Some(n) = self.named_texture(i, Variant::Raw, res)?
         {
             let nm = format!("{key}/normal-mapped");
-            descs.insert(nm.clone(), MaterialDesc::NormalMap { material: top, texture: n, strength: check(*scale, "normalTexture.scale")?, flip_green: true });
+            descs.insert(
+                nm.clone(),
+                MaterialDesc::NormalMap {
+                    material: top,
+                    texture: n,
+                    strength: check(*scale, "normalTexture.scale")?,
+                    flip_green: true,
+                },
+            );
             top = nm;
             normal_mapped = true;
         }
@@ -305,7 +369,11 @@ impl<'a> Materials<'a> {
         // Emission: factor x texture x strength, as a (textured) area light.
         let ef = m.emissive_factor();
         let strength = check(m.emissive_strength().unwrap_or(1.0), "emissiveStrength")?;
-        let radiance = Vec3::new(check(ef[0], "emissiveFactor")?, check(ef[1], "emissiveFactor")?, check(ef[2], "emissiveFactor")?) * strength;
+        let radiance = Vec3::new(
+            check(ef[0], "emissiveFactor")?,
+            check(ef[1], "emissiveFactor")?,
+            check(ef[2], "emissiveFactor")?,
+        ) * strength;
         let emission = if radiance.max_element() > 0.0 {
             let texture = match &emit_info {
                 Some(i) => self.image_map(i, Variant::Srgb)?,
@@ -327,11 +395,18 @@ impl<'a> Materials<'a> {
                     gltf::material::AlphaMode::Mask => AlphaMode::Mask { cutoff: m.alpha_cutoff().unwrap_or(0.5) },
                     _ => AlphaMode::Blend,
                 };
-                (texture.is_some() || factor < 1.0 || matches!(mode, AlphaMode::Mask { .. })).then_some(AlphaMask { texture, factor, mode })
+                (texture.is_some() || factor < 1.0 || matches!(mode, AlphaMode::Mask { .. })).then_some(AlphaMask {
+                    texture,
+                    factor,
+                    mode,
+                })
             }
         };
         if sets.len() > 1 {
-            self.warnings.insert(format!("{label}: textures use several uv sets; TEXCOORD_{} is used for all", sets.iter().next().unwrap_or(&0)));
+            self.warnings.insert(format!(
+                "{label}: textures use several uv sets; TEXCOORD_{} is used for all",
+                sets.iter().next().unwrap_or(&0)
+            ));
         }
         Ok(Resolved { id, emission, alpha, uv_set: sets.iter().next().copied().unwrap_or(0), normal_mapped })
     }

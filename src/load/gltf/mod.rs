@@ -33,8 +33,8 @@ use crate::load::FileSettings;
 use crate::mesh::MeshData;
 use crate::settings::PluginConfig;
 use data::{Buffers, read_accessor};
-use gltf::accessor::DataType;
 use glam::{Affine3A, Mat4, Vec2, Vec3, Vec4};
+use gltf::accessor::DataType;
 use hecs::{Entity, EntityBuilder, World};
 use std::collections::{BTreeSet, HashMap};
 use std::path::Path;
@@ -73,7 +73,10 @@ pub fn load_gltf(path: &Path, world: &mut World, res: &mut Resources) -> Result<
     let doc = g.document;
     for ext in doc.extensions_required() {
         if !SUPPORTED.contains(&ext) {
-            return Err(PrismError::format(path, format!("requires the glTF extension {ext}, which Prism does not support")));
+            return Err(PrismError::format(
+                path,
+                format!("requires the glTF extension {ext}, which Prism does not support"),
+            ));
         }
     }
     let validated = gltf::Document::from_json(doc.clone().into_json()).map_err(|e| gltf_error(e, path))?;
@@ -97,10 +100,14 @@ pub fn load_gltf(path: &Path, world: &mut World, res: &mut Resources) -> Result<
         }
     }
     if validated.animations().count() > 0 {
-        l.warnings.insert(format!("{} animation(s) ignored: the scene is rendered at rest", validated.animations().count()));
+        l.warnings
+            .insert(format!("{} animation(s) ignored: the scene is rendered at rest", validated.animations().count()));
     }
     if validated.skins().count() > 0 {
-        l.warnings.insert(format!("{} skin(s) ignored: skinned meshes are rendered in their bind pose", validated.skins().count()));
+        l.warnings.insert(format!(
+            "{} skin(s) ignored: skinned meshes are rendered in their bind pose",
+            validated.skins().count()
+        ));
     }
     let scene = validated.default_scene().or_else(|| validated.scenes().next());
     if let Some(scene) = scene {
@@ -196,7 +203,12 @@ impl Loader<'_> {
                     self.hi = self.hi.max(w);
                 }
                 let mut cb = EntityBuilder::new();
-                cb.add(Name(format!("{}/{}#{}", n.name().unwrap_or(&label), mesh.name().unwrap_or("mesh"), prim.index())));
+                cb.add(Name(format!(
+                    "{}/{}#{}",
+                    n.name().unwrap_or(&label),
+                    mesh.name().unwrap_or("mesh"),
+                    prim.index()
+                )));
                 cb.add(Parent(e));
                 cb.add(Shape::Mesh(h));
                 cb.add(MaterialId(mat.id));
@@ -246,7 +258,16 @@ impl Loader<'_> {
             Some(a) if a.is_finite() && a > 0.0 => ((480.0 * a).round() as u32).clamp(1, 16384),
             _ => 640,
         };
-        Ok(Camera { eye: Vec3::ZERO, target: Vec3::NEG_Z, up: Vec3::Y, projection, width, height: 480, focus_distance: 1.0, ..Camera::default() })
+        Ok(Camera {
+            eye: Vec3::ZERO,
+            target: Vec3::NEG_Z,
+            up: Vec3::Y,
+            projection,
+            width,
+            height: 480,
+            focus_distance: 1.0,
+            ..Camera::default()
+        })
     }
 
     fn light(&mut self, light: &gltf::khr_lights_punctual::Light, label: &str) -> Result<Light> {
@@ -260,14 +281,25 @@ impl Loader<'_> {
         }
         let power = color * (i / LUMENS_PER_WATT);
         Ok(match light.kind() {
-            gltf::khr_lights_punctual::Kind::Point => Light::Point { intensity: power, position: Vec3::ZERO, attenuation: Vec3::Z },
-            gltf::khr_lights_punctual::Kind::Directional => Light::Directional { irradiance: power, direction: Vec3::NEG_Z },
+            gltf::khr_lights_punctual::Kind::Point => {
+                Light::Point { intensity: power, position: Vec3::ZERO, attenuation: Vec3::Z }
+            }
+            gltf::khr_lights_punctual::Kind::Directional => {
+                Light::Directional { irradiance: power, direction: Vec3::NEG_Z }
+            }
             gltf::khr_lights_punctual::Kind::Spot { inner_cone_angle, outer_cone_angle } => {
                 let (inner, outer) = (inner_cone_angle.to_degrees(), outer_cone_angle.to_degrees());
                 if !(outer > 0.0 && outer <= 90.0 + 1e-3 && inner >= 0.0 && inner <= outer) {
                     return Err(self.err(format!("{label}: spot cone angles must satisfy 0 <= inner <= outer <= pi/2, got {inner_cone_angle} and {outer_cone_angle}")));
                 }
-                Light::Spot { intensity: power, position: Vec3::ZERO, direction: Vec3::NEG_Z, cone_angle: outer.min(90.0), falloff: outer.min(90.0) - inner, profile: SpotProfile::Gltf }
+                Light::Spot {
+                    intensity: power,
+                    position: Vec3::ZERO,
+                    direction: Vec3::NEG_Z,
+                    cone_angle: outer.min(90.0),
+                    falloff: outer.min(90.0) - inner,
+                    profile: SpotProfile::Gltf,
+                }
             }
         })
     }
@@ -276,8 +308,12 @@ impl Loader<'_> {
     fn spawn_camera(&mut self, world: &mut World, want: Option<&str>) -> Result<()> {
         let chosen = match want {
             Some(w) => Some(self.cameras.iter().find(|(c, n, ..)| c == w || n == w).ok_or_else(|| {
-                let names: Vec<String> = self.cameras.iter().map(|(c, n, ..)| if c.is_empty() { n.clone() } else { c.clone() }).collect();
-                self.err(format!("no camera named '{w}' (cameras: {})", if names.is_empty() { "none".into() } else { names.join(", ") }))
+                let names: Vec<String> =
+                    self.cameras.iter().map(|(c, n, ..)| if c.is_empty() { n.clone() } else { c.clone() }).collect();
+                self.err(format!(
+                    "no camera named '{w}' (cameras: {})",
+                    if names.is_empty() { "none".into() } else { names.join(", ") }
+                ))
             })?),
             None => self.cameras.first(),
         };
@@ -286,14 +322,23 @@ impl Loader<'_> {
                 world.insert_one(*e, *c).map_err(|_| self.err("camera entity vanished".into()))?;
             }
             None => {
-                let (lo, hi) = if self.lo.cmple(self.hi).all() { (self.lo, self.hi) } else { (Vec3::splat(-1.0), Vec3::ONE) };
+                let (lo, hi) =
+                    if self.lo.cmple(self.hi).all() { (self.lo, self.hi) } else { (Vec3::splat(-1.0), Vec3::ONE) };
                 let center = 0.5 * (lo + hi);
                 let radius = (0.5 * (hi - lo).length()).max(1e-6);
                 let fov: f32 = 40.0;
                 let dist = 1.1 * radius / (0.5 * fov.to_radians()).sin();
                 world.spawn((
                     Name("camera".into()),
-                    Camera { eye: center + dist * Vec3::new(0.5, 0.4, 1.0).normalize(), target: center, projection: Projection::Perspective { fov_y: fov }, width: 512, height: 512, focus_distance: dist, ..Camera::default() },
+                    Camera {
+                        eye: center + dist * Vec3::new(0.5, 0.4, 1.0).normalize(),
+                        target: center,
+                        projection: Projection::Perspective { fov_y: fov },
+                        width: 512,
+                        height: 512,
+                        focus_distance: dist,
+                        ..Camera::default()
+                    },
                 ));
             }
         }
@@ -301,18 +346,33 @@ impl Loader<'_> {
     }
 
     /// A primitive as a stored mesh with its material; `None` for primitives Prism leaves out.
-    fn primitive(&mut self, mesh: &gltf::Mesh, prim: &gltf::Primitive, res: &mut Resources) -> Result<Option<(MeshHandle, material::Resolved)>> {
+    fn primitive(
+        &mut self,
+        mesh: &gltf::Mesh,
+        prim: &gltf::Primitive,
+        res: &mut Resources,
+    ) -> Result<Option<(MeshHandle, material::Resolved)>> {
         let key = (mesh.index(), prim.index());
         if let Some(c) = self.prim_cache.get(&key) {
             return Ok(c.clone());
         }
-        let what = format!("mesh {}{} primitive {}", mesh.index(), mesh.name().map_or(String::new(), |n| format!(" '{n}'")), prim.index());
+        let what = format!(
+            "mesh {}{} primitive {}",
+            mesh.index(),
+            mesh.name().map_or(String::new(), |n| format!(" '{n}'")),
+            prim.index()
+        );
         let out = self.read_primitive(prim, &what, res)?;
         self.prim_cache.insert(key, out.clone());
         Ok(out)
     }
 
-    fn read_primitive(&mut self, prim: &gltf::Primitive, what: &str, res: &mut Resources) -> Result<Option<(MeshHandle, material::Resolved)>> {
+    fn read_primitive(
+        &mut self,
+        prim: &gltf::Primitive,
+        what: &str,
+        res: &mut Resources,
+    ) -> Result<Option<(MeshHandle, material::Resolved)>> {
         use gltf::mesh::{Mode, Semantic};
         let mode = prim.mode();
         if !matches!(mode, Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan) {
@@ -321,30 +381,43 @@ impl Loader<'_> {
         }
         let mat = self.mats.resolve(&prim.material(), res)?;
         let f32_only: &[(DataType, bool)] = &[(DataType::F32, false)];
-        let pos_acc = prim.get(&Semantic::Positions).ok_or_else(|| self.err(format!("{what}: no POSITION attribute")))?;
+        let pos_acc =
+            prim.get(&Semantic::Positions).ok_or_else(|| self.err(format!("{what}: no POSITION attribute")))?;
         let p = read_accessor(&pos_acc, self.buffers, 3, f32_only, &format!("{what} POSITION"), self.file)?;
-        let positions: Vec<Vec3> = p.chunks_exact(3).map(|c| Vec3::new(c[0] as f32, c[1] as f32, c[2] as f32)).collect();
+        let positions: Vec<Vec3> =
+            p.chunks_exact(3).map(|c| Vec3::new(c[0] as f32, c[1] as f32, c[2] as f32)).collect();
         if let Some(i) = positions.iter().position(|v| !v.is_finite()) {
             return Err(self.err(format!("{what}: vertex {i} has a NaN or infinite position {:?}", positions[i])));
         }
         let n = positions.len();
         let same_count = |v: usize, attr: &str| -> Result<()> {
-            if v == n { Ok(()) } else { Err(PrismError::format(self.file, format!("{what}: {attr} has {v} elements for {n} positions"))) }
+            if v == n {
+                Ok(())
+            } else {
+                Err(PrismError::format(self.file, format!("{what}: {attr} has {v} elements for {n} positions")))
+            }
         };
         let normals: Vec<Vec3> = match prim.get(&Semantic::Normals) {
             Some(a) => {
                 let v = read_accessor(&a, self.buffers, 3, f32_only, &format!("{what} NORMAL"), self.file)?;
                 same_count(v.len() / 3, "NORMAL")?;
-                v.chunks_exact(3).map(|c| Vec3::new(c[0] as f32, c[1] as f32, c[2] as f32)).map(|v| if v.is_finite() { v } else { Vec3::ZERO }).collect()
+                v.chunks_exact(3)
+                    .map(|c| Vec3::new(c[0] as f32, c[1] as f32, c[2] as f32))
+                    .map(|v| if v.is_finite() { v } else { Vec3::ZERO })
+                    .collect()
             }
             None => vec![],
         };
         let uv_ok: &[(DataType, bool)] = &[(DataType::F32, false), (DataType::U8, true), (DataType::U16, true)];
         let uvs: Vec<Vec2> = match prim.get(&Semantic::TexCoords(mat.uv_set)) {
             Some(a) => {
-                let v = read_accessor(&a, self.buffers, 2, uv_ok, &format!("{what} TEXCOORD_{}", mat.uv_set), self.file)?;
+                let v =
+                    read_accessor(&a, self.buffers, 2, uv_ok, &format!("{what} TEXCOORD_{}", mat.uv_set), self.file)?;
                 same_count(v.len() / 2, "TEXCOORD")?;
-                v.chunks_exact(2).map(|c| Vec2::new(c[0] as f32, c[1] as f32)).map(|v| if v.is_finite() { v } else { Vec2::ZERO }).collect()
+                v.chunks_exact(2)
+                    .map(|c| Vec2::new(c[0] as f32, c[1] as f32))
+                    .map(|v| if v.is_finite() { v } else { Vec2::ZERO })
+                    .collect()
             }
             None => vec![],
         };
@@ -353,7 +426,9 @@ impl Loader<'_> {
                 let v = read_accessor(&a, self.buffers, 4, f32_only, &format!("{what} TANGENT"), self.file)?;
                 same_count(v.len() / 4, "TANGENT")?;
                 // glTF's bitangent (w cross(n, t)) points up the image; Prism's along increasing v, down it.
-                v.chunks_exact(4).map(|c| Vec4::new(c[0] as f32, c[1] as f32, c[2] as f32, if c[3] < 0.0 { 1.0 } else { -1.0 })).collect()
+                v.chunks_exact(4)
+                    .map(|c| Vec4::new(c[0] as f32, c[1] as f32, c[2] as f32, if c[3] < 0.0 { 1.0 } else { -1.0 }))
+                    .collect()
             }
             _ => vec![],
         };
@@ -376,10 +451,12 @@ impl Loader<'_> {
             None => (0..n as u32).collect(),
         };
         let indices: Vec<[u32; 3]> = match mode {
-            Mode::TriangleStrip => (2..idx.len()).map(|i| if i % 2 == 0 { [idx[i - 2], idx[i - 1], idx[i]] } else { [idx[i - 1], idx[i - 2], idx[i]] }).collect(),
+            Mode::TriangleStrip => (2..idx.len())
+                .map(|i| if i % 2 == 0 { [idx[i - 2], idx[i - 1], idx[i]] } else { [idx[i - 1], idx[i - 2], idx[i]] })
+                .collect(),
             Mode::TriangleFan => (2..idx.len()).map(|i| [idx[0], idx[i - 1], idx[i]]).collect(),
             _ => {
-                if idx.len() % 3 != 0 {
+                if !idx.len().is_multiple_of(3) {
                     return Err(self.err(format!("{what}: {} indices is not a multiple of 3", idx.len())));
                 }
                 idx.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect()

@@ -5,7 +5,7 @@
 //! `lights.rs`, materials and textures in `materials.rs`.
 
 use super::Version;
-use super::lexer::{Tok, Token, tokenize};
+use super::lexer::{Tok, Token, bracketed_nums, nums, string, tokenize};
 use super::params::{Params, parse_params};
 use super::scene_wide::SceneWide;
 use crate::error::{PrismError, Result, SourcePos};
@@ -46,7 +46,13 @@ pub fn matrix_op(m: &DMat4) -> String {
         let row = m.row(i);
         format!("({}, {}, {}, {})", num(row.x), num(row.y), num(row.z), num(row.w))
     };
-    format!("Matrix(({}, {}, {}, {}))", r(0), r(1), r(2), if m.row(3) == glam::DVec4::W { "(0, 0, 0, 1)".into() } else { r(3) })
+    format!(
+        "Matrix(({}, {}, {}, {}))",
+        r(0),
+        r(1),
+        r(2),
+        if m.row(3) == glam::DVec4::W { "(0, 0, 0, 1)".into() } else { r(3) }
+    )
 }
 
 /// The area light of the current attribute scope.
@@ -167,7 +173,9 @@ impl Converter {
 
     /// A resolved path written relative to the RON file's directory.
     pub fn ron_path(&self, p: &Path) -> String {
-        crate::load::mit6837::relative_path(&normalize(p), &normalize(&self.ron_dir)).to_string_lossy().replace('\\', "/")
+        crate::load::mit6837::relative_path(&normalize(p), &normalize(&self.ron_dir))
+            .to_string_lossy()
+            .replace('\\', "/")
     }
 
     /// Run the directives of one file.
@@ -183,10 +191,7 @@ impl Converter {
             let t = &tokens[i];
             let pos = SourcePos { file: file.to_path_buf(), line: t.line, col: t.col };
             let Tok::Word(name) = &t.tok else {
-                return Err(PrismError::Parse {
-                    pos,
-                    message: format!("expected a directive, got {}", t.describe()),
-                });
+                return Err(PrismError::Parse { pos, message: format!("expected a directive, got {}", t.describe()) });
             };
             i += 1;
             self.directive(name, tokens, &mut i, file, pos)?;
@@ -199,9 +204,13 @@ impl Converter {
         match name {
             "LookAt" => {
                 let v = nums(tokens, i, 9, name, &pos)?;
-                let (eye, at, up) = (DVec3::new(v[0], v[1], v[2]), DVec3::new(v[3], v[4], v[5]), DVec3::new(v[6], v[7], v[8]));
+                let (eye, at, up) =
+                    (DVec3::new(v[0], v[1], v[2]), DVec3::new(v[3], v[4], v[5]), DVec3::new(v[6], v[7], v[8]));
                 let m = look_at(eye, at, up).ok_or_else(|| {
-                    perr(&pos, "LookAt: eye, target and up do not define a view (eye == target or up along the view)".into())
+                    perr(
+                        &pos,
+                        "LookAt: eye, target and up do not define a view (eye == target or up along the view)".into(),
+                    )
                 })?;
                 self.ctm *= m;
             }
@@ -216,7 +225,8 @@ impl Converter {
             "Rotate" => {
                 let v = nums(tokens, i, 4, name, &pos)?;
                 let axis = DVec3::new(v[1], v[2], v[3]);
-                let axis = axis.try_normalize().ok_or_else(|| perr(&pos, "Rotate: the axis is the zero vector".into()))?;
+                let axis =
+                    axis.try_normalize().ok_or_else(|| perr(&pos, "Rotate: the axis is the zero vector".into()))?;
                 self.ctm *= DMat4::from_axis_angle(axis, v[0].to_radians());
             }
             "Transform" | "ConcatTransform" => {
@@ -243,14 +253,17 @@ impl Converter {
             "ReverseOrientation" => self.reverse = !self.reverse,
             "ActiveTransform" => {
                 *i += 1;
-                self.warn("ActiveTransform / TransformTimes (motion blur) are ignored: every shape uses its start transform");
+                self.warn(
+                    "ActiveTransform / TransformTimes (motion blur) are ignored: every shape uses its start transform",
+                );
             }
             "TransformTimes" => {
                 nums(tokens, i, 2, name, &pos)?;
             }
             "WorldBegin" => {
                 self.in_world = true;
-                self.named_coords.insert("camera".into(), self.wide.camera_from_world.map_or(DMat4::IDENTITY, |m| m.inverse()));
+                self.named_coords
+                    .insert("camera".into(), self.wide.camera_from_world.map_or(DMat4::IDENTITY, |m| m.inverse()));
                 self.ctm = DMat4::IDENTITY;
                 self.named_coords.insert("world".into(), DMat4::IDENTITY);
             }
@@ -267,7 +280,13 @@ impl Converter {
             }
             "AttributeEnd" | "TransformEnd" => {
                 let Some(s) = self.stack.pop() else {
-                    return Err(perr(&pos, format!("{name} without a matching {}", if name == "AttributeEnd" { "AttributeBegin" } else { "TransformBegin" })));
+                    return Err(perr(
+                        &pos,
+                        format!(
+                            "{name} without a matching {}",
+                            if name == "AttributeEnd" { "AttributeBegin" } else { "TransformBegin" }
+                        ),
+                    ));
                 };
                 if s.transform_only != (name == "TransformEnd") {
                     return Err(perr(
@@ -386,7 +405,9 @@ impl Converter {
             "MakeNamedMaterial" => {
                 let n = string(tokens, i, name, &pos)?;
                 let params = parse_params(tokens, i, file)?;
-                let ty = params.string("type")?.ok_or_else(|| perr(&pos, format!("MakeNamedMaterial \"{n}\": no \"string type\"")))?;
+                let ty = params
+                    .string("type")?
+                    .ok_or_else(|| perr(&pos, format!("MakeNamedMaterial \"{n}\": no \"string type\"")))?;
                 let ron = super::materials::material(self, &ty, &params, &pos, Some(&n))?;
                 self.named_materials.insert(n, ron);
                 self.report_unused(name, &ty, &params);
@@ -433,7 +454,8 @@ impl Converter {
     }
 
     fn report_unused(&mut self, directive: &str, ty: &str, params: &Params) {
-        let unused: Vec<String> = params.unused().iter().map(|(n, p)| format!("\"{n}\" ({}:{})", short(&p.file), p.line)).collect();
+        let unused: Vec<String> =
+            params.unused().iter().map(|(n, p)| format!("\"{n}\" ({}:{})", short(&p.file), p.line)).collect();
         if !unused.is_empty() {
             self.warn(format!("{directive} \"{ty}\": parameters ignored: {}", unused.join(", ")));
         }
@@ -444,7 +466,10 @@ impl Converter {
         if let Some(s) = self.stack.last() {
             return Err(PrismError::Parse {
                 pos: s.pos.clone(),
-                message: format!("{} is never closed", if s.transform_only { "TransformBegin" } else { "AttributeBegin" }),
+                message: format!(
+                    "{} is never closed",
+                    if s.transform_only { "TransformBegin" } else { "AttributeBegin" }
+                ),
             });
         }
         Ok(())
@@ -453,7 +478,7 @@ impl Converter {
     /// The RON scene.
     pub fn to_ron(&self) -> String {
         let mut out = String::from("(\n");
-        out.push_str(&self.wide.ron(&self.environment.is_some()));
+        out.push_str(&self.wide.ron());
         let table = |out: &mut String, name: &str, t: &BTreeMap<String, String>| {
             if t.is_empty() {
                 return;
@@ -511,66 +536,4 @@ pub fn look_at(eye: DVec3, at: DVec3, up: DVec3) -> Option<DMat4> {
     let new_up = dir.cross(right);
     let world_from_camera = DMat4::from_cols(right.extend(0.0), new_up.extend(0.0), dir.extend(0.0), eye.extend(1.0));
     Some(world_from_camera.inverse())
-}
-
-fn nums(tokens: &[Token], i: &mut usize, n: usize, name: &str, pos: &SourcePos) -> Result<Vec<f64>> {
-    let bracket = matches!(tokens.get(*i).map(|t| &t.tok), Some(Tok::Open));
-    if bracket {
-        return bracketed_nums(tokens, i, n, name, pos);
-    }
-    let mut out = Vec::with_capacity(n);
-    for _ in 0..n {
-        match tokens.get(*i) {
-            Some(Token { tok: Tok::Num(v), .. }) => {
-                out.push(*v);
-                *i += 1;
-            }
-            Some(t) => {
-                return Err(PrismError::Parse {
-                    pos: SourcePos { line: t.line, col: t.col, ..pos.clone() },
-                    message: format!("{name} expects {n} numbers, got {} after {}", t.describe(), out.len()),
-                });
-            }
-            None => {
-                return Err(PrismError::Parse {
-                    pos: pos.clone(),
-                    message: format!("{name} expects {n} numbers, the file ends after {}", out.len()),
-                });
-            }
-        }
-    }
-    Ok(out)
-}
-
-fn bracketed_nums(tokens: &[Token], i: &mut usize, n: usize, name: &str, pos: &SourcePos) -> Result<Vec<f64>> {
-    if !matches!(tokens.get(*i).map(|t| &t.tok), Some(Tok::Open)) {
-        return nums(tokens, i, n, name, pos);
-    }
-    *i += 1;
-    let v = nums(tokens, i, n, name, pos)?;
-    match tokens.get(*i) {
-        Some(Token { tok: Tok::Close, .. }) => {
-            *i += 1;
-            Ok(v)
-        }
-        Some(t) => Err(PrismError::Parse {
-            pos: SourcePos { line: t.line, col: t.col, ..pos.clone() },
-            message: format!("{name} expects {n} numbers in brackets, got {} more", t.describe()),
-        }),
-        None => Err(PrismError::Parse { pos: pos.clone(), message: format!("{name}: missing `]`") }),
-    }
-}
-
-fn string(tokens: &[Token], i: &mut usize, name: &str, pos: &SourcePos) -> Result<String> {
-    match tokens.get(*i) {
-        Some(Token { tok: Tok::Str(s), .. }) => {
-            *i += 1;
-            Ok(s.clone())
-        }
-        Some(t) => Err(PrismError::Parse {
-            pos: SourcePos { line: t.line, col: t.col, ..pos.clone() },
-            message: format!("{name} expects a quoted string, got {}", t.describe()),
-        }),
-        None => Err(PrismError::Parse { pos: pos.clone(), message: format!("{name} expects a quoted string") }),
-    }
 }

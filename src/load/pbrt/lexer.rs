@@ -75,7 +75,10 @@ pub fn tokenize(text: &str, file: &Path) -> Result<Vec<Token>> {
                 let mut s = String::new();
                 loop {
                     let Some(&d) = chars.get(i) else {
-                        return Err(PrismError::Parse { pos: pos(file, tl, tc), message: "unterminated string".into() });
+                        return Err(PrismError::Parse {
+                            pos: pos(file, tl, tc),
+                            message: "unterminated string".into(),
+                        });
                     };
                     if d == '\n' {
                         return Err(PrismError::Parse {
@@ -126,4 +129,69 @@ pub fn tokenize(text: &str, file: &Path) -> Result<Vec<Token>> {
         }
     }
     Ok(out)
+}
+
+/// `n` numbers of a directive's arguments, bare or in brackets.
+pub fn nums(tokens: &[Token], i: &mut usize, n: usize, name: &str, pos: &SourcePos) -> Result<Vec<f64>> {
+    let bracket = matches!(tokens.get(*i).map(|t| &t.tok), Some(Tok::Open));
+    if bracket {
+        return bracketed_nums(tokens, i, n, name, pos);
+    }
+    let mut out = Vec::with_capacity(n);
+    for _ in 0..n {
+        match tokens.get(*i) {
+            Some(Token { tok: Tok::Num(v), .. }) => {
+                out.push(*v);
+                *i += 1;
+            }
+            Some(t) => {
+                return Err(PrismError::Parse {
+                    pos: SourcePos { line: t.line, col: t.col, ..pos.clone() },
+                    message: format!("{name} expects {n} numbers, got {} after {}", t.describe(), out.len()),
+                });
+            }
+            None => {
+                return Err(PrismError::Parse {
+                    pos: pos.clone(),
+                    message: format!("{name} expects {n} numbers, the file ends after {}", out.len()),
+                });
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// `n` numbers in brackets (or bare).
+pub fn bracketed_nums(tokens: &[Token], i: &mut usize, n: usize, name: &str, pos: &SourcePos) -> Result<Vec<f64>> {
+    if !matches!(tokens.get(*i).map(|t| &t.tok), Some(Tok::Open)) {
+        return nums(tokens, i, n, name, pos);
+    }
+    *i += 1;
+    let v = nums(tokens, i, n, name, pos)?;
+    match tokens.get(*i) {
+        Some(Token { tok: Tok::Close, .. }) => {
+            *i += 1;
+            Ok(v)
+        }
+        Some(t) => Err(PrismError::Parse {
+            pos: SourcePos { line: t.line, col: t.col, ..pos.clone() },
+            message: format!("{name} expects {n} numbers in brackets, got {} more", t.describe()),
+        }),
+        None => Err(PrismError::Parse { pos: pos.clone(), message: format!("{name}: missing `]`") }),
+    }
+}
+
+/// One quoted string argument.
+pub fn string(tokens: &[Token], i: &mut usize, name: &str, pos: &SourcePos) -> Result<String> {
+    match tokens.get(*i) {
+        Some(Token { tok: Tok::Str(s), .. }) => {
+            *i += 1;
+            Ok(s.clone())
+        }
+        Some(t) => Err(PrismError::Parse {
+            pos: SourcePos { line: t.line, col: t.col, ..pos.clone() },
+            message: format!("{name} expects a quoted string, got {}", t.describe()),
+        }),
+        None => Err(PrismError::Parse { pos: pos.clone(), message: format!("{name} expects a quoted string") }),
+    }
 }

@@ -35,7 +35,12 @@ pub struct EnvSpec {
 
 impl EnvSpec {
     pub fn ron(&self) -> String {
-        let mut s = format!("(name: {}, transform: [{}], light: Environment(radiance: {}", quote(&self.label), matrix_op(&self.transform), tuple3(self.radiance));
+        let mut s = format!(
+            "(name: {}, transform: [{}], light: Environment(radiance: {}",
+            quote(&self.label),
+            matrix_op(&self.transform),
+            tuple3(self.radiance)
+        );
         if let Some(m) = &self.map {
             let _ = write!(s, ", map: Some({}), layout: Some(Equirect)", quote(m));
         }
@@ -93,7 +98,12 @@ pub fn light_source(c: &mut Converter, ty: &str, p: &Params, pos: &SourcePos) ->
             let cone = p.float("coneangle", 30.0)?;
             let delta = p.float("conedeltaangle", 5.0)?;
             if !(cone > 0.0 && cone <= 180.0 && delta >= 0.0) {
-                return Err(bad(pos, format!("LightSource \"spot\": coneangle must be in (0, 180] and conedeltaangle >= 0, got {cone} and {delta}")));
+                return Err(bad(
+                    pos,
+                    format!(
+                        "LightSource \"spot\": coneangle must be in (0, 180] and conedeltaangle >= 0, got {cone} and {delta}"
+                    ),
+                ));
             }
             let profile = if c.version == Version::V3 { "quartic" } else { "smoothstep" };
             let power = p.float("power", -1.0)?;

@@ -53,7 +53,7 @@ pub fn spectrum_rgb(c: &mut Converter, s: &SpectrumParam, what: &str, pos: &Sour
                     .map(|t| t.parse::<f64>())
                     .collect::<std::result::Result<_, _>>()
                     .map_err(|_| PrismError::format(&path, "not a list of (wavelength, value) numbers"))?;
-                if v.len() < 4 || v.len() % 2 != 0 {
+                if v.len() < 4 || !v.len().is_multiple_of(2) {
                     return Err(PrismError::format(&path, "needs (wavelength, value) pairs"));
                 }
                 sampled_to_rgb(&v)
@@ -81,7 +81,9 @@ pub fn color(c: &mut Converter, p: &Params, name: &str, default: [f64; 3], pos: 
             let v = c.tex_values.get(&(false, t.clone())).or_else(|| c.tex_values.get(&(true, t.clone()))).cloned();
             match v {
                 Some(TexValue::Const(k)) => Ok(tuple3(k)),
-                Some(TexValue::Image { ron, scale }) => Ok(format!("Map(texture: {}, scale: {})", quote(&ron), tuple3(scale))),
+                Some(TexValue::Image { ron, scale }) => {
+                    Ok(format!("Map(texture: {}, scale: {})", quote(&ron), tuple3(scale)))
+                }
                 None => Err(bad(&pos, format!("parameter \"{name}\": unknown texture \"{t}\""))),
             }
         }
@@ -93,19 +95,30 @@ pub fn color(c: &mut Converter, p: &Params, name: &str, default: [f64; 3], pos: 
 }
 
 /// A scalar parameter as RON (a number or `Map(...)`), with `f` applied to constants.
-fn scalar(c: &Converter, p: &Params, name: &str, default: f64, f: impl Fn(f64) -> f64, pos: &SourcePos) -> Result<String> {
+fn scalar(
+    c: &Converter,
+    p: &Params,
+    name: &str,
+    default: f64,
+    f: impl Fn(f64) -> f64,
+    pos: &SourcePos,
+) -> Result<String> {
     let pos = p.pos_of(name).unwrap_or_else(|| pos.clone());
     match p.float_or_texture(name)? {
         None => Ok(num(f(default))),
         Some(FloatParam::Value(v)) if v.is_finite() => Ok(num(f(v))),
         Some(FloatParam::Value(v)) => Err(bad(&pos, format!("parameter \"{name}\" is not finite: {v}"))),
-        Some(FloatParam::Texture(t)) => match c.tex_values.get(&(true, t.clone())).or_else(|| c.tex_values.get(&(false, t.clone()))) {
-            Some(TexValue::Const(k)) => Ok(num(f((k[0] + k[1] + k[2]) / 3.0))),
-            Some(TexValue::Image { ron, scale }) => {
-                Ok(format!("Map(texture: {}, channel: Mean, scale: {})", quote(ron), num((scale[0] + scale[1] + scale[2]) / 3.0)))
+        Some(FloatParam::Texture(t)) => {
+            match c.tex_values.get(&(true, t.clone())).or_else(|| c.tex_values.get(&(false, t.clone()))) {
+                Some(TexValue::Const(k)) => Ok(num(f((k[0] + k[1] + k[2]) / 3.0))),
+                Some(TexValue::Image { ron, scale }) => Ok(format!(
+                    "Map(texture: {}, channel: Mean, scale: {})",
+                    quote(ron),
+                    num((scale[0] + scale[1] + scale[2]) / 3.0)
+                )),
+                None => Err(bad(&pos, format!("parameter \"{name}\": unknown texture \"{t}\""))),
             }
-            None => Err(bad(&pos, format!("parameter \"{name}\": unknown texture \"{t}\""))),
-        },
+        }
     }
 }
 
@@ -136,7 +149,13 @@ fn alpha(c: &mut Converter, p: &Params, default: f64, pos: &SourcePos) -> Result
         }
         return Ok(num(to_alpha(0.5 * (u + v))));
     }
-    let key = if p.has("roughness") { "roughness" } else if u.is_some() { "uroughness" } else { "roughness" };
+    let key = if p.has("roughness") {
+        "roughness"
+    } else if u.is_some() {
+        "uroughness"
+    } else {
+        "roughness"
+    };
     if matches!(p.float_or_texture(key)?, Some(FloatParam::Texture(_))) && remap {
         c.warn("a textured roughness is used as the GGX alpha without pbrt's remapping");
         return scalar(c, p, key, default, |x| x, pos);
@@ -165,7 +184,10 @@ fn ior(c: &mut Converter, p: &Params, default: f64, pos: &SourcePos) -> Result<f
         }
     };
     if !(v.is_finite() && v > 0.0) {
-        return Err(bad(&p.pos_of(key).unwrap_or(pos.clone()), format!("index of refraction must be positive, got {v}")));
+        return Err(bad(
+            &p.pos_of(key).unwrap_or(pos.clone()),
+            format!("index of refraction must be positive, got {v}"),
+        ));
     }
     Ok(v)
 }
@@ -184,23 +206,34 @@ fn conductor_fresnel(c: &mut Converter, p: &Params, prefix: &str, pos: &SourcePo
     match (&eta, &k) {
         (None, None) => Ok("material: \"Cu\"".into()),
         _ => {
-            if let (Some(NamedSpectrum::Metal { metal: a, part: MetalPart::Eta }), Some(NamedSpectrum::Metal { metal: b, part: MetalPart::K })) =
-                (named(&eta), named(&k))
+            if let (
+                Some(NamedSpectrum::Metal { metal: a, part: MetalPart::Eta }),
+                Some(NamedSpectrum::Metal { metal: b, part: MetalPart::K }),
+            ) = (named(&eta), named(&k))
                 && a == b
             {
                 return Ok(format!("material: {}", quote(a)));
             }
             let mut part = |s: &Option<SpectrumParam>, what: &str, default: &str| -> Result<[f64; 3]> {
                 match s {
-                    None => Ok(crate::material::metals::metal(default).map(|(e, k)| if what == "eta" { e } else { k }).expect("Cu").to_array().map(|x| x as f64)),
+                    None => Ok(crate::material::metals::metal(default)
+                        .map(|(e, k)| if what == "eta" { e } else { k })
+                        .expect("Cu")
+                        .to_array()
+                        .map(|x| x as f64)),
                     Some(SpectrumParam::Named(n)) => match named_spectrum(n) {
                         Some(NamedSpectrum::Metal { metal, part }) => {
                             let (e, k) = crate::material::metals::metal(metal).expect("known metal");
                             Ok(if part == MetalPart::Eta { e } else { k }.to_array().map(|x| x as f64))
                         }
-                        _ => Err(bad(pos, format!("{what}: unknown metal spectrum \"{n}\" (known: metal-Au/Ag/Al/Cu-eta/k)"))),
+                        _ => Err(bad(
+                            pos,
+                            format!("{what}: unknown metal spectrum \"{n}\" (known: metal-Au/Ag/Al/Cu-eta/k)"),
+                        )),
                     },
-                    Some(SpectrumParam::Texture(_)) => Err(bad(pos, format!("{what}: a textured index is not supported"))),
+                    Some(SpectrumParam::Texture(_)) => {
+                        Err(bad(pos, format!("{what}: a textured index is not supported")))
+                    }
                     Some(s) => Ok(spectrum_rgb(c, s, what, pos)?.expect("constant")),
                 }
             };
@@ -265,7 +298,17 @@ pub fn material(c: &mut Converter, ty: &str, p: &Params, pos: &SourcePos, named:
             approx(c, "a rough conductor (the coat is left out)");
             let a = alpha_prefixed(c, p, "conductor.", pos)?;
             let f = conductor_fresnel(c, p, "conductor.", pos)?;
-            for q in ["interface.roughness", "interface.uroughness", "interface.vroughness", "interface.eta", "thickness", "albedo", "g", "maxdepth", "nsamples"] {
+            for q in [
+                "interface.roughness",
+                "interface.uroughness",
+                "interface.vroughness",
+                "interface.eta",
+                "thickness",
+                "albedo",
+                "g",
+                "maxdepth",
+                "nsamples",
+            ] {
                 p.has(q);
             }
             format!("RoughConductor(alpha: {a}, {f})")
@@ -310,18 +353,33 @@ pub fn material(c: &mut Converter, ty: &str, p: &Params, pos: &SourcePos, named:
         "mix" => {
             let names = match p.strings("materials")? {
                 Some(v) if v.len() == 2 => v,
-                Some(v) => return Err(bad(pos, format!("material \"mix\": \"materials\" needs 2 names, got {}", v.len()))),
+                Some(v) => {
+                    return Err(bad(pos, format!("material \"mix\": \"materials\" needs 2 names, got {}", v.len())));
+                }
                 None => {
-                    let a = p.string("namedmaterial1")?.ok_or_else(|| bad(pos, "material \"mix\": no \"namedmaterial1\"".into()))?;
-                    let b = p.string("namedmaterial2")?.ok_or_else(|| bad(pos, "material \"mix\": no \"namedmaterial2\"".into()))?;
+                    let a = p
+                        .string("namedmaterial1")?
+                        .ok_or_else(|| bad(pos, "material \"mix\": no \"namedmaterial1\"".into()))?;
+                    let b = p
+                        .string("namedmaterial2")?
+                        .ok_or_else(|| bad(pos, "material \"mix\": no \"namedmaterial2\"".into()))?;
                     vec![a, b]
                 }
             };
             let mut ron = Vec::new();
             for n in &names {
-                let m = c.named_materials.get(n).cloned().ok_or_else(|| bad(pos, format!("material \"mix\": unknown material \"{n}\"")))?;
+                let m = c
+                    .named_materials
+                    .get(n)
+                    .cloned()
+                    .ok_or_else(|| bad(pos, format!("material \"mix\": unknown material \"{n}\"")))?;
                 // Blends hold plain materials: a bump-mapped component keeps its base.
-                let base = c.materials.get(&m).and_then(|t| t.strip_prefix("Bump(material: ")).and_then(|t| t.split('"').nth(1)).map(str::to_string);
+                let base = c
+                    .materials
+                    .get(&m)
+                    .and_then(|t| t.strip_prefix("Bump(material: "))
+                    .and_then(|t| t.split('"').nth(1))
+                    .map(str::to_string);
                 if base.is_some() {
                     c.warn("material \"mix\": a bump map of a mixed material is left out");
                 }
@@ -354,7 +412,10 @@ pub fn material(c: &mut Converter, ty: &str, p: &Params, pos: &SourcePos, named:
     if let Some(f) = normal_map {
         let path = c.resolve(&f);
         if !path.is_file() {
-            return Err(bad(&p.pos_of("normalmap").unwrap_or(pos.clone()), format!("normal map not found: {}", path.display())));
+            return Err(bad(
+                &p.pos_of("normalmap").unwrap_or(pos.clone()),
+                format!("normal map not found: {}", path.display()),
+            ));
         }
         let tex = format!("normalmap:{f}");
         c.textures.insert(tex.clone(), format!("Image(path: {}, raw: true)", quote(&c.ron_path(&path))));
@@ -387,7 +448,9 @@ pub fn texture(c: &mut Converter, name: &str, kind: &str, class: &str, p: &Param
     let float = match kind {
         "float" => true,
         "spectrum" | "color" | "rgb" => false,
-        other => return Err(bad(pos, format!("Texture \"{name}\": unknown texture type \"{other}\" (float or spectrum)"))),
+        other => {
+            return Err(bad(pos, format!("Texture \"{name}\": unknown texture type \"{other}\" (float or spectrum)")));
+        }
     };
     let lookup = |c: &Converter, key: &str, default: [f64; 3]| -> Result<TexValue> {
         Ok(match (p.spectrum(key)?, p.float_or_texture(key).ok().flatten()) {
@@ -404,10 +467,15 @@ pub fn texture(c: &mut Converter, name: &str, kind: &str, class: &str, p: &Param
     };
     let value = match class {
         "imagemap" => {
-            let f = p.string("filename")?.ok_or_else(|| bad(pos, format!("Texture \"{name}\": imagemap needs \"string filename\"")))?;
+            let f = p
+                .string("filename")?
+                .ok_or_else(|| bad(pos, format!("Texture \"{name}\": imagemap needs \"string filename\"")))?;
             let path = c.resolve(&f);
             if !path.is_file() {
-                return Err(bad(&p.pos_of("filename").unwrap_or(pos.clone()), format!("Texture \"{name}\": image not found: {}", path.display())));
+                return Err(bad(
+                    &p.pos_of("filename").unwrap_or(pos.clone()),
+                    format!("Texture \"{name}\": image not found: {}", path.display()),
+                ));
             }
             let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
             let eight_bit = matches!(ext.as_str(), "png" | "tga" | "jpg" | "jpeg" | "bmp");
@@ -460,7 +528,8 @@ pub fn texture(c: &mut Converter, name: &str, kind: &str, class: &str, p: &Param
             let (a, b) = if p.has("tex1") { ("tex1", "tex2") } else { ("tex", "scale") };
             match (lookup(c, a, [1.0; 3])?, lookup(c, b, [1.0; 3])?) {
                 (TexValue::Const(x), TexValue::Const(y)) => TexValue::Const([x[0] * y[0], x[1] * y[1], x[2] * y[2]]),
-                (TexValue::Image { ron, scale }, TexValue::Const(k)) | (TexValue::Const(k), TexValue::Image { ron, scale }) => {
+                (TexValue::Image { ron, scale }, TexValue::Const(k))
+                | (TexValue::Const(k), TexValue::Image { ron, scale }) => {
                     TexValue::Image { ron, scale: [scale[0] * k[0], scale[1] * k[1], scale[2] * k[2]] }
                 }
                 (img, _) => {
@@ -470,7 +539,7 @@ pub fn texture(c: &mut Converter, name: &str, kind: &str, class: &str, p: &Param
             }
         }
         "mix" | "directionmix" | "checkerboard" => {
-            let (a, b) = if p.has("tex1") || class != "mix" { ("tex1", "tex2") } else { ("tex1", "tex2") };
+            let (a, b) = ("tex1", "tex2");
             let (x, y) = (lookup(c, a, [0.0; 3])?, lookup(c, b, [1.0; 3])?);
             let t = if class == "checkerboard" { 0.5 } else { p.float("amount", 0.5).unwrap_or(0.5) };
             for q in p.list.iter().map(|q| q.name.clone()).collect::<Vec<_>>() {

@@ -74,8 +74,12 @@ fn detect_version(text: &str, file: &Path) -> Result<Version> {
                 match (prev_word.as_str(), s.as_str()) {
                     ("Film", "image") => v3 += 1,
                     ("Film", "rgb" | "gbuffer" | "spectral") => v4 += 1,
-                    ("Material", "matte" | "uber" | "plastic" | "glass" | "metal" | "substrate" | "translucent") => v3 += 1,
-                    ("Material", "diffuse" | "dielectric" | "conductor" | "coateddiffuse" | "coatedconductor") => v4 += 1,
+                    ("Material", "matte" | "uber" | "plastic" | "glass" | "metal" | "substrate" | "translucent") => {
+                        v3 += 1
+                    }
+                    ("Material", "diffuse" | "dielectric" | "conductor" | "coateddiffuse" | "coatedconductor") => {
+                        v4 += 1
+                    }
                     _ => {}
                 }
                 if s == "string type" {

@@ -68,7 +68,10 @@ impl SceneWide {
                 }
                 self.fov = p.float("fov", 90.0)?;
                 if !(self.fov > 0.0 && self.fov < 180.0) {
-                    return Err(bad(&p.pos_of("fov").unwrap_or(pos.clone()), format!("Camera: fov must be in (0, 180), got {}", self.fov)));
+                    return Err(bad(
+                        &p.pos_of("fov").unwrap_or(pos.clone()),
+                        format!("Camera: fov must be in (0, 180), got {}", self.fov),
+                    ));
                 }
                 self.lens_radius = p.float("lensradius", 0.0)?;
                 self.focal_distance = p.float("focaldistance", 1e6)?;
@@ -91,7 +94,12 @@ impl SceneWide {
                 if let Some(w) = p.floats("cropwindow")? {
                     let ok = w.len() == 4 && w[0] < w[1] && w[2] < w[3] && w.iter().all(|v| (0.0..=1.0).contains(v));
                     if !ok {
-                        return Err(bad(&p.pos_of("cropwindow").unwrap_or(pos.clone()), format!("Film: cropwindow must be [x0 x1 y0 y1] in [0, 1] with x0 < x1, y0 < y1, got {w:?}")));
+                        return Err(bad(
+                            &p.pos_of("cropwindow").unwrap_or(pos.clone()),
+                            format!(
+                                "Film: cropwindow must be [x0 x1 y0 y1] in [0, 1] with x0 < x1, y0 < y1, got {w:?}"
+                            ),
+                        ));
                     }
                     self.crop = Some([w[0], w[1], w[2], w[3]]);
                 }
@@ -135,19 +143,39 @@ impl SceneWide {
                         let iters = p.int("numiterations", 64)?;
                         let radius = p.float("radius", 1.0)?;
                         let photons = p.int("photonsperiteration", -1)?;
-                        if iters < 1 || !(radius > 0.0) {
-                            return Err(bad(pos, "Integrator \"sppm\": numiterations must be >= 1 and radius > 0".into()));
+                        if iters < 1 || radius.is_nan() || radius <= 0.0 {
+                            return Err(bad(
+                                pos,
+                                "Integrator \"sppm\": numiterations must be >= 1 and radius > 0".into(),
+                            ));
                         }
                         let photons = if photons > 0 { format!(", photons: {photons}") } else { String::new() };
                         p.has("imagewritefrequency");
                         p.has("seed");
-                        (format!("ppm(radius: {}{photons}, max_depth: {segments})", num(radius)), Some(iters.min(1 << 24) as u32))
+                        (
+                            format!("ppm(radius: {}{photons}, max_depth: {segments})", num(radius)),
+                            Some(iters.min(1 << 24) as u32),
+                        )
                     }
-                    "path" | "volpath" | "bdpt" | "mlt" | "lightpath" | "randomwalk" | "simplepath" | "simplevolpath" => {
+                    "path" | "volpath" | "bdpt" | "mlt" | "lightpath" | "randomwalk" | "simplepath"
+                    | "simplevolpath" => {
                         if ty != "path" && ty != "volpath" && ty != "simplepath" {
-                            c.warn(format!("Integrator \"{ty}\" is approximated by unidirectional path tracing (envlight)"));
+                            c.warn(format!(
+                                "Integrator \"{ty}\" is approximated by unidirectional path tracing (envlight)"
+                            ));
                         }
-                        for ignored in ["rrthreshold", "lightsampler", "regularize", "visualizestrategies", "visualizeweights", "bootstrapsamples", "chains", "mutationsperpixel", "largestepprobability", "sigma"] {
+                        for ignored in [
+                            "rrthreshold",
+                            "lightsampler",
+                            "regularize",
+                            "visualizestrategies",
+                            "visualizeweights",
+                            "bootstrapsamples",
+                            "chains",
+                            "mutationsperpixel",
+                            "largestepprobability",
+                            "sigma",
+                        ] {
                             p.has(ignored);
                         }
                         (format!("envlight(max_depth: {segments})"), None)
@@ -157,7 +185,7 @@ impl SceneWide {
                         p.has("strategy");
                         ("envlight(max_depth: 2)".into(), None)
                     }
-                    "whitted" => (format!("phong(max_depth: {})", depth.max(1).min(1 << 20)), None),
+                    "whitted" => (format!("phong(max_depth: {})", depth.clamp(1, 1 << 20)), None),
                     "ambientocclusion" | "aov" => {
                         c.warn(format!("Integrator \"{ty}\" is not supported; path tracing instead"));
                         ("envlight".into(), None)
@@ -202,7 +230,7 @@ impl SceneWide {
     }
 
     /// The `camera:` and `render:` fields of the RON scene.
-    pub fn ron(&self, _has_env: &bool) -> String {
+    pub fn ron(&self) -> String {
         let v3 = self.version == Some(Version::V3) || self.version.is_none();
         let (w, h) = self.resolution.unwrap_or(if v3 { (640, 480) } else { (1280, 720) });
         let mut out = String::new();
@@ -232,7 +260,15 @@ impl SceneWide {
         let cropped = (px0, py0, px1, py1) != (0, 0, w as i64, h as i64);
         let size = ((px1 - px0) as u32, (py1 - py0) as u32);
         let target = eye + fwd.normalize_or_zero();
-        let _ = write!(out, "    camera: (eye: {}, target: {}, up: {}, size: ({}, {})", tuple3(eye.to_array()), tuple3(target.to_array()), tuple3(up.normalize_or_zero().to_array()), size.0, size.1);
+        let _ = write!(
+            out,
+            "    camera: (eye: {}, target: {}, up: {}, size: ({}, {})",
+            tuple3(eye.to_array()),
+            tuple3(target.to_array()),
+            tuple3(up.normalize_or_zero().to_array()),
+            size.0,
+            size.1
+        );
         let short_scale = if w >= h { 1.0 } else { h as f64 / w as f64 };
         if self.ortho {
             let _ = write!(out, ", orthographic: Some({})", num(2.0 * short_scale * up.length()));
@@ -248,10 +284,16 @@ impl SceneWide {
             let _ = write!(out, ", crop: Some(({}, {}, {}, {}))", f(px0, w), f(py0, h), f(px1, w), f(py1, h));
         }
         if self.lens_radius > 0.0 {
-            let _ = write!(out, ", aperture_radius: {}, focus_distance: Some({})", num(self.lens_radius * right.length()), num(self.focal_distance * fwd.length()));
+            let _ = write!(
+                out,
+                ", aperture_radius: {}, focus_distance: Some({})",
+                num(self.lens_radius * right.length()),
+                num(self.focal_distance * fwd.length())
+            );
         }
         out.push_str("),\n    render: (");
-        let (integrator, iterations) = self.integrator.clone().unwrap_or_else(|| ("envlight(max_depth: 6)".into(), None));
+        let (integrator, iterations) =
+            self.integrator.clone().unwrap_or_else(|| ("envlight(max_depth: 6)".into(), None));
         let _ = write!(out, "integrator: {integrator}, spp: {}", iterations.or(self.spp).unwrap_or(16));
         if let Some(f) = &self.filter {
             let _ = write!(out, ", filter: {f}");

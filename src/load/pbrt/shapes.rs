@@ -108,7 +108,7 @@ fn check_mesh(
     what: &str,
     pos: &SourcePos,
 ) -> Result<()> {
-    if idx.len() % per != 0 {
+    if !idx.len().is_multiple_of(per) {
         return Err(bad(pos, format!("{what}: {} indices is not a multiple of {per}", idx.len())));
     }
     if let Some((k, i)) = idx.iter().enumerate().find(|(_, i)| **i as usize >= np) {
@@ -155,7 +155,10 @@ pub fn shape(c: &mut Converter, ty: &str, p: &Params, pos: &SourcePos) -> Result
             let f = p.string("filename")?.ok_or_else(|| bad(pos, format!("{what}: no \"string filename\"")))?;
             let path = c.resolve(&f);
             if !path.is_file() {
-                return Err(bad(&p.pos_of("filename").unwrap_or(pos.clone()), format!("{what}: file not found: {}", path.display())));
+                return Err(bad(
+                    &p.pos_of("filename").unwrap_or(pos.clone()),
+                    format!("{what}: file not found: {}", path.display()),
+                ));
             }
             for q in ["displacement", "edgelength"] {
                 if p.has(q) {
@@ -253,7 +256,12 @@ pub fn shape(c: &mut Converter, ty: &str, p: &Params, pos: &SourcePos) -> Result
         if c.defining_object() {
             c.warn("area lights inside object definitions are ignored (as in pbrt)");
         } else {
-            let _ = write!(text, ", light: Area(radiance: {}, two_sided: {}", super::convert::tuple3(a.radiance), a.two_sided);
+            let _ = write!(
+                text,
+                ", light: Area(radiance: {}, two_sided: {}",
+                super::convert::tuple3(a.radiance),
+                a.two_sided
+            );
             if let Some(t) = &a.texture {
                 let _ = write!(text, ", texture: {}", quote(t));
             }
@@ -275,11 +283,9 @@ fn alpha(c: &mut Converter, p: &Params, pos: &SourcePos) -> Result<Option<String
     let value = match p.float_or_texture("alpha")? {
         None => return Ok(None),
         Some(FloatParam::Value(a)) => TexValue::Const([a; 3]),
-        Some(FloatParam::Texture(t)) => c
-            .tex_values
-            .get(&(true, t.clone()))
-            .cloned()
-            .ok_or_else(|| bad(&p.pos_of("alpha").unwrap_or(pos.clone()), format!("alpha: unknown float texture \"{t}\"")))?,
+        Some(FloatParam::Texture(t)) => c.tex_values.get(&(true, t.clone())).cloned().ok_or_else(|| {
+            bad(&p.pos_of("alpha").unwrap_or(pos.clone()), format!("alpha: unknown float texture \"{t}\""))
+        })?,
     };
     Ok(match value {
         TexValue::Const(a) if a[0] >= 1.0 => None,

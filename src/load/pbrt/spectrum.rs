@@ -12,8 +12,6 @@
 //! - named spectra: pbrt-v4's `metal-X-eta`/`metal-X-k` for the metals Prism knows (Au, Ag, Al, Cu: their RGB
 //!   index), `glass-*` as their index at 550 nm; other names are an error naming them.
 
-use std::f64::consts::PI;
-
 fn lobe(x: f64, mu: f64, s1: f64, s2: f64) -> f64 {
     let t = (x - mu) / if x < mu { s1 } else { s2 };
     (-0.5 * t * t).exp()
@@ -142,6 +140,3 @@ pub fn named_spectrum(name: &str) -> Option<NamedSpectrum> {
 pub fn luminance(c: [f64; 3]) -> f64 {
     0.212671 * c[0] + 0.715160 * c[1] + 0.072169 * c[2]
 }
-
-/// `pi`, for callers converting between radiance and irradiance.
-pub const PI_F64: f64 = PI;
