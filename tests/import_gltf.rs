@@ -441,3 +441,26 @@ fn malformed_gltf_files_are_one_line_errors() {
         );
     gltf_error("image.gltf", with_image.as_bytes(), "image 0 (nope.png)");
 }
+
+#[test]
+fn the_camera_option_picks_a_gltf_camera_by_name() {
+    let mut d = Doc::default();
+    d.materials.push(diffuse([0.5; 3], true, None));
+    let q = d.mesh(&QUAD, &QUAD_IDX, 0);
+    d.nodes.push(node(q, [0.0; 3], None, [1.0; 3]));
+    d.cameras.push("{\"name\": \"near\", \"type\": \"perspective\", \"perspective\": {\"yfov\": 0.5, \"aspectRatio\": 2, \"znear\": 0.01}}".into());
+    d.cameras.push("{\"name\": \"ortho\", \"type\": \"orthographic\", \"orthographic\": {\"xmag\": 2, \"ymag\": 1, \"znear\": 0.01, \"zfar\": 10}}".into());
+    d.nodes.push("{\"camera\": 0, \"translation\": [0, 0, 3]}".into());
+    d.nodes.push("{\"name\": \"side\", \"camera\": 1, \"translation\": [0, 0, 5]}".into());
+    let path = d.write("cameras.gltf");
+    let run = |camera: Option<&str>| {
+        let mut app =
+            app_from_file(&path, Overrides { spp: Some(1), camera: camera.map(str::to_string), ..Default::default() });
+        app.run().map(|_| (app.resources.settings.width, app.resources.settings.height))
+    };
+    assert_eq!(run(None).unwrap(), (960, 480), "the first camera, aspect ratio 2");
+    assert_eq!(run(Some("ortho")).unwrap(), (960, 480), "by camera name: xmag / ymag = 2");
+    assert_eq!(run(Some("side")).unwrap(), (960, 480), "by node name");
+    let e = run(Some("nope")).unwrap_err().to_string();
+    assert!(e.contains("no camera named 'nope'") && e.contains("near") && e.contains("ortho"), "{e}");
+}

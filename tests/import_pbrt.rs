@@ -321,3 +321,52 @@ fn a_pbrt_scene_renders_through_the_cli_and_converts_to_a_ron_file_that_loads() 
     let img = render_file(&out, Overrides { size: Some((14, 20)), spp: Some(1), ..Default::default() });
     assert!(img.pixels.iter().any(|p| p.x > 0.0));
 }
+
+#[test]
+fn a_pbrt_v3_environment_map_is_looked_up_in_pbrts_frame_z_up_phi_from_x() {
+    // A 16 x 8 equirect map: red around phi = 0 (+x), green around phi = 90 degrees (+y), on the horizon rows.
+    let dir = scratch("pbrt-env");
+    let (w, h) = (16u32, 8u32);
+    let mut px = vec![glam::Vec3::ZERO; (w * h) as usize];
+    for y in 3..5 {
+        for x in [15, 0] {
+            px[(y * w + x) as usize] = glam::Vec3::new(1.0, 0.0, 0.0);
+        }
+        for x in [3, 4] {
+            px[(y * w + x) as usize] = glam::Vec3::new(0.0, 1.0, 0.0);
+        }
+    }
+    prism::io::write_exr(&dir.join("sky.exr"), &prism::io::Image::new(w, h, px)).unwrap();
+    let look = |to: &str| {
+        let text = format!(
+            "LookAt 0 0 0  {to}  0 0 1\nCamera \"perspective\" \"float fov\" 5\nFilm \"image\" \"integer xresolution\" 4 \"integer yresolution\" 4\n\
+             Integrator \"path\" \"integer maxdepth\" 1\nWorldBegin\nLightSource \"infinite\" \"string mapname\" \"sky.exr\"\nWorldEnd\n"
+        );
+        std::fs::write(dir.join("env.pbrt"), text).unwrap();
+        render_file(&dir.join("env.pbrt"), spp(4)).mean()
+    };
+    let (px_, py, nx, ny) = (look("1 0 0"), look("0 1 0"), look("-1 0 0"), look("0 -1 0"));
+    assert!(px_.x > 0.4 && px_.y < 0.05, "+x sees red: {px_:?}");
+    assert!(py.y > 0.4 && py.x < 0.05, "+y sees green: {py:?}");
+    assert!(nx.max_element() < 0.05 && ny.max_element() < 0.05, "-x {nx:?}, -y {ny:?} see nothing");
+}
+
+#[test]
+fn image_textures_keep_pbrts_orientation_and_uv_scale() {
+    // A 2 x 2 texture: top row red, bottom row blue. pbrt's v = 0 is the image's bottom row.
+    let dir = scratch("pbrt-tex");
+    let px = vec![glam::Vec3::X, glam::Vec3::X, glam::Vec3::Z, glam::Vec3::Z];
+    prism::io::write_exr(&dir.join("rb.exr"), &prism::io::Image::new(2, 2, px)).unwrap();
+    let text = format!(
+        "{HEAD_V4}Integrator \"path\" \"integer maxdepth\" 1\nWorldBegin\nLightSource \"infinite\" \"rgb L\" [1 1 1]\n\
+         Texture \"t\" \"spectrum\" \"imagemap\" \"string filename\" \"rb.exr\" \"string wrap\" \"clamp\"\n\
+         Material \"diffuse\" \"texture reflectance\" \"t\"\n\
+         Shape \"trianglemesh\" \"point3 P\" [-1 -1 0  1 -1 0  1 1 0  -1 1 0] \"point2 uv\" [0 0  1 0  1 1  0 1] \"integer indices\" [0 2 1 0 3 2]\n"
+    );
+    std::fs::write(dir.join("tex.pbrt"), text).unwrap();
+    let img = render_file(&dir.join("tex.pbrt"), spp(4));
+    // The quad covers pixel rows and columns 4 to 11; its top (y = +1, v = 1 in pbrt) shows the image's top row.
+    let row = |y: u32| (5..11).map(|x| img.get(x, y)).fold(glam::Vec3::ZERO, |a, b| a + b);
+    assert!(row(5).x > 4.0 * row(5).z, "top of the quad is red: {:?}", row(5));
+    assert!(row(10).z > 4.0 * row(10).x, "bottom of the quad is blue: {:?}", row(10));
+}
