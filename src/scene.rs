@@ -90,7 +90,7 @@ impl Scene {
     /// The BSDF of the surface at `s` seen from `wo` (unit, pointing away from the surface): the material
     /// resolved at the hit (textures, blends, normal and bump maps). `None` when the surface reflects nothing
     /// towards `wo` and has no ambient term (a black material, the back of a one-sided one).
-    #[inline]
+    #[inline(always)]
     pub fn bsdf(&self, s: &SurfaceHit, wo: Vec3A) -> Option<Bsdf> {
         crate::material::bsdf(&self.materials, &self.textures, &self.prims, s, wo, None)
     }

@@ -89,6 +89,8 @@ pub enum AccelKind {
     /// Compressed 8-wide BVH via obvhs (the default).
     #[default]
     Bvh,
+    /// 4-wide BVH with SoA boxes and packet leaves (`src/accel/wide_bvh.rs`), built by obvhs.
+    Bvh4,
     /// SAH kd-tree (`src/accel/kdtree.rs`).
     KdTree,
     /// Uniform grid with the given resolution (`src/accel/grid.rs`).
@@ -110,6 +112,7 @@ impl AccelKind {
     pub fn parse(s: &str) -> Option<Self> {
         match s {
             "bvh" => Some(Self::Bvh),
+            "bvh4" => Some(Self::Bvh4),
             "kdtree" => Some(Self::KdTree),
             "grid" => Some(Self::Grid(GridResolution::Auto)),
             "brute" => Some(Self::Brute),
@@ -120,6 +123,7 @@ impl AccelKind {
     pub fn name(&self) -> &'static str {
         match self {
             Self::Bvh => "bvh",
+            Self::Bvh4 => "bvh4",
             Self::KdTree => "kdtree",
             Self::Grid(_) => "grid",
             Self::Brute => "brute",
@@ -127,8 +131,8 @@ impl AccelKind {
     }
 
     /// Every accelerator (the grid with automatic resolution).
-    pub const ALL: [AccelKind; 4] =
-        [AccelKind::Bvh, AccelKind::KdTree, AccelKind::Grid(GridResolution::Auto), AccelKind::Brute];
+    pub const ALL: [AccelKind; 5] =
+        [AccelKind::Bvh, AccelKind::Bvh4, AccelKind::KdTree, AccelKind::Grid(GridResolution::Auto), AccelKind::Brute];
 
     /// The names `parse` accepts, for messages.
     pub const NAMES: &'static str = "bvh, kdtree, grid or brute";

@@ -144,3 +144,22 @@ pub fn rmse_against_reference(scene: &str, reference: &str, spps: &[u32], mean_t
     }
     rmse
 }
+
+/// A box-filtered reduction of `img` by an integer factor: each output pixel is the mean of a `factor x factor`
+/// block, which is exactly what a render at the smaller size with a box pixel filter converges to.
+pub fn downsample(img: &prism::io::Image, factor: u32) -> prism::io::Image {
+    let (w, h) = (img.width / factor, img.height / factor);
+    let mut px = Vec::with_capacity((w * h) as usize);
+    for y in 0..h {
+        for x in 0..w {
+            let mut s = glam::DVec3::ZERO;
+            for dy in 0..factor {
+                for dx in 0..factor {
+                    s += img.get(x * factor + dx, y * factor + dy).as_dvec3();
+                }
+            }
+            px.push((s / (factor * factor) as f64).as_vec3());
+        }
+    }
+    prism::io::Image::new(w, h, px)
+}

@@ -131,17 +131,17 @@ fn course_command_lines_of_assignments_6_and_7_run_through_prism_raytracer() {
     let mut ran = 0;
     for (a, section) in [(6, "## assignment6"), (7, "## assignment7")] {
         let text = commands.split(section).nth(1).unwrap().split("\n## ").next().unwrap();
-        // Sample patterns and pixel filters (-*_samples, -*_filter, -render_*) are the sampler's options.
-        for line in
-            text.lines().filter(|l| l.starts_with("raytracer ") && !l.contains("_samples") && !l.contains("_filter"))
-        {
+        // Every line, sample patterns and pixel filters (and their visualisations) included.
+        for line in text.lines().filter(|l| l.starts_with("raytracer ")) {
             let mut args: Vec<String> = line.split_whitespace().skip(1).map(String::from).collect();
             for i in 0..args.len() {
                 match args[i].as_str() {
                     "-input" => {
                         args[i + 1] = data(&format!("mit6837/assignment{a}/{}", args[i + 1])).display().to_string()
                     }
-                    "-output" => args[i + 1] = dir.join(&args[i + 1]).display().to_string(),
+                    "-output" | "-render_samples" | "-render_filter" => {
+                        args[i + 1] = dir.join(&args[i + 1]).display().to_string()
+                    }
                     "-size" => {
                         args[i + 1] = "24".into();
                         args[i + 2] = "24".into();
@@ -159,10 +159,18 @@ fn course_command_lines_of_assignments_6_and_7_run_through_prism_raytracer() {
                 let len = std::fs::metadata(&tga).unwrap_or_else(|_| panic!("{line}: no {}", tga.display())).len();
                 assert_eq!(len, 18 + 24 * 24 * 3, "{line}");
             }
+            // The visualisations are (24 zoom)^2 TGAs.
+            for opt in ["-render_samples", "-render_filter"] {
+                if let Some(i) = args.iter().position(|a| a == opt) {
+                    let zoom: u64 = args[i + 2].parse().unwrap();
+                    let len = std::fs::metadata(&args[i + 1]).unwrap_or_else(|_| panic!("{line}: no {opt}")).len();
+                    assert_eq!(len, 18 + 24 * 24 * zoom * zoom * 3, "{line}");
+                }
+            }
             ran += 1;
         }
     }
-    assert!(ran >= 50, "only {ran} command lines");
+    assert!(ran >= 90, "only {ran} command lines");
 }
 
 #[test]

@@ -58,12 +58,12 @@ impl PathTracer {
         let Some(ls) = self.lights.sample_li(&scene.lights, &scene.prims, s.p, n, u_choice, u) else {
             return Vec3::ZERO;
         };
-        let f = bsdf.eval(ls.wi);
+        let (f, bsdf_pdf) = bsdf.eval_pdf(ls.wi);
         let cos = ls.wi.dot(n).abs();
         if f == Vec3::ZERO || scene.occluded(&s.spawn_to(&ls)) {
             return Vec3::ZERO;
         }
-        let w = if ls.delta || !self.params.mis { 1.0 } else { power_heuristic(ls.pdf, bsdf.pdf(ls.wi)) };
+        let w = if ls.delta || !self.params.mis { 1.0 } else { power_heuristic(ls.pdf, bsdf_pdf) };
         f * ls.li * (cos * w / ls.pdf)
     }
 }

@@ -1,6 +1,7 @@
 //! The hash-grid photon lookup (the design card's): a uniform grid of cubic cells of side `cell` (twice the
-//! current largest gather radius, so a query touches at most 2 x 2 x 2 cells) hashed into a table of 2^k slots,
-//! built over the **photons** every iteration.
+//! current median gather radius, so a typical query touches 2 x 2 x 2 cells and a pixel with a larger radius a few
+//! more) hashed into a table of 2^k slots, built over the **photons** every iteration. Each stored photon keeps its
+//! cell's key, so photons of other cells that share a slot are skipped and no slot is read twice for one cell.
 //!
 //! Why over the photons and not over the visible points (pbrt-v4's choice): with photons in the grid, every visible
 //! point gathers its own sum in parallel and in a fixed order (cell by cell, photons in index order), so the result
@@ -24,6 +25,15 @@ pub struct PhotonHashGrid {
     starts: Vec<u32>,
     slots: Vec<u32>,
     photons: Vec<Photon>,
+    /// The cell key of each photon (`photons[i]`'s cell).
+    keys: Vec<u64>,
+}
+
+/// A cell's coordinates packed into one integer (21 bits each; coordinates are clamped to that range).
+#[inline]
+fn cell_key(c: IVec3) -> u64 {
+    let f = |v: i32| (v.clamp(-(1 << 20), (1 << 20) - 1) + (1 << 20)) as u64;
+    f(c.x) | (f(c.y) << 21) | (f(c.z) << 42)
 }
 
 #[inline]
@@ -81,9 +91,12 @@ impl PhotonHashGrid {
         self.photons.clear();
         self.photons
             .resize(n, Photon { p: Vec3A::ZERO, wi: Vec3A::ZERO, ng: Vec3A::ZERO, beta: glam::Vec3::ZERO, depth: 0 });
+        self.keys.clear();
+        self.keys.resize(n, 0);
         for (&s, ph) in self.slots.iter().zip(chunks.iter().flatten()) {
             let c = &mut cursor[s as usize];
             self.photons[*c as usize] = *ph;
+            self.keys[*c as usize] = cell_key(cell_at(origin, inv_cell, ph.p));
             *c += 1;
         }
     }
@@ -97,23 +110,15 @@ impl PhotonHashGrid {
         let lo = self.cell_of(p - Vec3A::splat(r));
         let hi = self.cell_of(p + Vec3A::splat(r));
         let r2 = r * r;
-        // Distinct cells can share a slot; visit each slot once.
-        let mut seen = [u32::MAX; 64];
-        let mut n_seen = 0;
         for z in lo.z..=hi.z {
             for y in lo.y..=hi.y {
                 for x in lo.x..=hi.x {
-                    let slot = hash_cell(IVec3::new(x, y, z)) & self.mask;
-                    if seen[..n_seen].contains(&slot) {
-                        continue;
-                    }
-                    if n_seen < seen.len() {
-                        seen[n_seen] = slot;
-                        n_seen += 1;
-                    }
-                    let (a, b) = (self.starts[slot as usize] as usize, self.starts[slot as usize + 1] as usize);
-                    for ph in &self.photons[a..b] {
-                        if (ph.p - p).length_squared() < r2 {
+                    let c = IVec3::new(x, y, z);
+                    let slot = (hash_cell(c) & self.mask) as usize;
+                    let key = cell_key(c);
+                    let (a, b) = (self.starts[slot] as usize, self.starts[slot + 1] as usize);
+                    for (ph, &k) in self.photons[a..b].iter().zip(&self.keys[a..b]) {
+                        if k == key && (ph.p - p).length_squared() < r2 {
                             f(ph);
                         }
                     }

@@ -94,6 +94,8 @@ pub struct Ppm {
     warned_no_visible_points: bool,
     /// Fixed mode: the visible points of this process's eye pass exist (they are recomputed after a resume).
     eye_ready: bool,
+    /// The current radii of the pixels with a visible point (reused buffer, for the grid's cell size).
+    radii: Vec<f32>,
     /// Rows this process renders: `(k, n)` = rows `y % n == k` (a row shard), `(0, 1)` = all.
     rows: (u32, u32),
 }
@@ -113,6 +115,7 @@ impl Ppm {
             photons_stored: 0,
             warned_no_visible_points: false,
             eye_ready: false,
+            radii: vec![],
             rows: (0, 1),
         }
     }
@@ -194,16 +197,23 @@ impl Ppm {
                 .radius
                 .unwrap_or_else(|| self.params.radius_pixels * scene.camera.pixel_footprint(vp.path_length.max(1e-30)))
         };
-        let mut r_max = 0.0f32;
+        self.radii.clear();
         for (st, e) in self.stats.iter_mut().zip(&self.eye) {
             if let Some(vp) = &e.vp {
                 st.init_radius(initial(vp));
-                r_max = r_max.max(st.radius() as f32);
+                self.radii.push(st.radius() as f32);
             }
         }
+        let r_max = self.radii.iter().copied().fold(0.0f32, f32::max);
         if r_max > 0.0 {
             match self.params.lookup {
-                PhotonLookup::HashGrid => self.grid.build(&self.chunks, 2.0 * r_max),
+                PhotonLookup::HashGrid => {
+                    // Cells twice the median radius: most queries touch 2 x 2 x 2 cells.
+                    let mid = self.radii.len() / 2;
+                    let (_, median, _) = self.radii.select_nth_unstable_by(mid, f32::total_cmp);
+                    let cell = (2.0 * *median).max(r_max * 1e-3);
+                    self.grid.build(&self.chunks, cell)
+                }
                 PhotonLookup::Kdtree => self.kd.build(&self.chunks),
             }
         }

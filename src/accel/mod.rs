@@ -24,6 +24,7 @@ pub mod ray_file;
 pub mod ray_sets;
 mod tri_box;
 mod triangle_clip;
+mod wide_bvh;
 mod work;
 
 pub use brute::BruteForce;
@@ -31,6 +32,7 @@ pub use bvh::BvhAccel;
 pub use grid::{CellHit, GridCell, UniformGrid};
 pub use kdtree::{KdParams, KdTree};
 pub use tri_box::triangle_overlaps_box;
+pub use wide_bvh::WideBvh;
 pub use work::{NoCount, TraversalWork, WorkCounter};
 
 use crate::error::Result;
@@ -63,6 +65,7 @@ pub trait Accelerator: Send + Sync {
 
 pub enum Accel {
     Bvh(BvhAccel),
+    Bvh4(WideBvh),
     KdTree(KdTree),
     Grid(UniformGrid),
     Brute(BruteForce),
@@ -72,6 +75,7 @@ macro_rules! dispatch {
     ($self:expr, $a:ident => $e:expr) => {
         match $self {
             Accel::Bvh($a) => $e,
+            Accel::Bvh4($a) => $e,
             Accel::KdTree($a) => $e,
             Accel::Grid($a) => $e,
             Accel::Brute($a) => $e,
@@ -85,6 +89,7 @@ impl Accel {
         let start = Instant::now();
         let mut accel = match kind {
             AccelKind::Bvh => Accel::Bvh(BvhAccel::build(prims)),
+            AccelKind::Bvh4 => Accel::Bvh4(WideBvh::build(prims)),
             AccelKind::KdTree => Accel::KdTree(KdTree::build(prims)),
             AccelKind::Grid(res) => Accel::Grid(UniformGrid::build(prims, res)?),
             AccelKind::Brute => Accel::Brute(BruteForce::build(prims)),
@@ -96,6 +101,7 @@ impl Accel {
     fn set_build_time(&mut self, d: Duration) {
         match self {
             Accel::Bvh(a) => a.build_time = d,
+            Accel::Bvh4(a) => a.build_time = d,
             Accel::KdTree(a) => a.build_time = d,
             Accel::Grid(a) => a.build_time = d,
             Accel::Brute(_) => {}

@@ -270,6 +270,16 @@ impl Bsdf {
         f
     }
 
+    /// `eval` and `pdf` of one direction together (one change of frame): what next-event estimation with MIS needs.
+    #[inline]
+    pub fn eval_pdf(&self, wi: Vec3A) -> (Vec3, f32) {
+        let wl = self.frame.to_local(wi);
+        if !self.smooth || !self.consistent(wi, wl) {
+            return (Vec3::ZERO, 0.0);
+        }
+        (self.eval_local(wl, TransportMode::Radiance), self.pdf_local(wl))
+    }
+
     /// Mixture pdf (solid angle) with which `sample` produces `wi` through a smooth lobe.
     #[inline]
     pub fn pdf(&self, wi: Vec3A) -> f32 {
@@ -301,9 +311,29 @@ impl Bsdf {
     }
 
     /// Sample a direction for the given transport mode.
+    #[inline]
     pub fn sample_mode(&self, u_lobe: f32, u: Vec2, mode: TransportMode) -> Option<BsdfSample> {
         if self.len == 0 {
             return None;
+        }
+        if self.len == 1
+            && let Lobe::Diffuse { albedo } = self.lobes[0]
+        {
+            // The common case, a lone Lambertian lobe: cosine sampling, weight = albedo exactly.
+            if self.wo_local.z <= 0.0 {
+                return None;
+            }
+            let wl = crate::sampling::warp::cosine_hemisphere(u);
+            let wi = self.frame.to_world(wl);
+            if !self.consistent(wi, wl) {
+                return None;
+            }
+            let pdf = crate::sampling::warp::cosine_hemisphere_pdf(wl);
+            if pdf <= 0.0 {
+                return None;
+            }
+            let weight = albedo * self.correction(wi, mode);
+            return Some(BsdfSample { wi, weight, pdf, delta: false });
         }
         let i = self.cdf[..self.len].iter().position(|&c| u_lobe < c).unwrap_or(self.len - 1);
         let p = self.lobe_probability(i);

@@ -5,6 +5,7 @@ mod bench_cmd;
 mod compare_cmd;
 mod converge_cmd;
 mod convert_cmd;
+mod course_views;
 mod merge_cmd;
 mod raytracer_cmd;
 mod render_cmd;

@@ -15,15 +15,20 @@
 //! | `-grid NX NY NZ` | `--accel grid --grid NX NY NZ` |
 //! | `-visualize_grid` | `--integrator 'debug(mode: grid_cells)'` for the `-output` image |
 //! | `-stats` | the accelerator's statistics on stderr |
+//! | `-random_samples N`, `-uniform_samples N`, `-jittered_samples N` | `--spp N --pattern random\|uniform\|stratified` (default: 1 sample at the pixel centre, as the course) |
+//! | `-box_filter R`, `-tent_filter R`, `-gaussian_filter S` | `--filter box:R\|tent:R\|gaussian:S` (sampled by importance, the course's radii) |
+//! | `-render_samples F Z` | an image of every pixel's sample positions, `Z` texels per pixel |
+//! | `-render_filter F Z` | an image of the filter's weights around the centre pixel, `Z` texels per pixel |
 //! | `-gui`, `-tessellation A B`, `-gouraud` | ignored (OpenGL preview) |
 //!
 //! Course depths are measured from the camera centre; for orthographic cameras, whose eye Prism moves back
-//! behind the scene, NEAR and FAR are shifted by that distance. Each image is rendered with 1 sample per pixel,
-//! as the course's ray tracer does (jittered within the pixel).
+//! behind the scene, NEAR and FAR are shifted by that distance. Without a sampling option each image is rendered
+//! with 1 sample at each pixel centre, as the course's ray tracer does.
 
 use super::render_cmd::{RenderArgs, run as render};
 use crate::error::PrismError;
 use crate::load::mit6837;
+use crate::sampling::{PixelFilter, PixelPattern};
 use std::path::{Path, PathBuf};
 
 #[derive(clap::Args, Debug, Clone)]
@@ -48,6 +53,13 @@ pub struct CourseOptions {
     pub grid: Option<[u32; 3]>,
     pub visualize_grid: bool,
     pub stats: bool,
+    /// Samples per pixel and their pattern (`-random_samples N` ...).
+    pub samples: Option<(PixelPattern, u32)>,
+    pub filter: Option<PixelFilter>,
+    /// `-render_samples FILE ZOOM`.
+    pub render_samples: Option<(PathBuf, u32)>,
+    /// `-render_filter FILE ZOOM`.
+    pub render_filter: Option<(PathBuf, u32)>,
 }
 
 /// Parse course options; unknown ones are errors naming the option.
@@ -81,6 +93,37 @@ pub fn parse_course_options(args: &[String]) -> Result<CourseOptions, PrismError
                     Some([num(take(&mut i, opt)?, opt)?, num(take(&mut i, opt)?, opt)?, num(take(&mut i, opt)?, opt)?])
             }
             "-visualize_grid" => o.visualize_grid = true,
+            "-random_samples" | "-uniform_samples" | "-jittered_samples" => {
+                let n: u32 = num(take(&mut i, opt)?, opt)?;
+                if n == 0 || n > 1 << 16 {
+                    return Err(PrismError::invalid(format!("{opt}: the sample count must be 1 to 65536, got {n}")));
+                }
+                let pattern = match opt {
+                    "-random_samples" => PixelPattern::Random,
+                    "-uniform_samples" => PixelPattern::Uniform,
+                    _ => PixelPattern::Stratified,
+                };
+                o.samples = Some((pattern, n));
+            }
+            "-box_filter" | "-tent_filter" | "-gaussian_filter" => {
+                let r: f32 = num(take(&mut i, opt)?, opt)?;
+                let f = match opt {
+                    "-box_filter" => PixelFilter::Box { radius: r },
+                    "-tent_filter" => PixelFilter::Tent { radius: r },
+                    _ => PixelFilter::Gaussian { sigma: r },
+                };
+                f.validate().map_err(|e| PrismError::invalid(format!("{opt}: {e}")))?;
+                o.filter = Some(f);
+            }
+            "-render_samples" | "-render_filter" => {
+                let file: PathBuf = take(&mut i, opt)?.into();
+                let zoom: u32 = num(take(&mut i, opt)?, opt)?;
+                if opt == "-render_samples" {
+                    o.render_samples = Some((file, zoom));
+                } else {
+                    o.render_filter = Some((file, zoom));
+                }
+            }
             "-stats" => o.stats = true,
             "-gui" | "-gouraud" => {}
             "-tessellation" => {
@@ -90,8 +133,9 @@ pub fn parse_course_options(args: &[String]) -> Result<CourseOptions, PrismError
             other => {
                 return Err(PrismError::invalid(format!(
                     "unsupported 6.837 option `{other}` (supported: -input -size -output -depth -normals -shadows \
-                     -bounces -weight -shade_back -grid -visualize_grid -stats; -gui -tessellation -gouraud are \
-                     ignored)"
+                     -bounces -weight -shade_back -grid -visualize_grid -stats -random_samples -uniform_samples \
+                     -jittered_samples -box_filter -tent_filter -gaussian_filter -render_samples -render_filter; \
+                     -gui -tessellation -gouraud are ignored)"
                 )));
             }
         }
@@ -118,15 +162,15 @@ pub fn run(args: RaytracerArgs) -> anyhow::Result<()> {
         integrator: Some(integrator),
         accel: None,
         grid: o.grid.map(|g| g.to_vec()),
-        spp: Some(1),
+        spp: Some(o.samples.map_or(1, |s| s.1)),
         passes: None,
         time: None,
         size: o.size,
         seed: None,
         threads: None,
         sampler: None,
-        pattern: None,
-        filter: None,
+        pattern: Some(o.samples.map_or(PixelPattern::Uniform, |s| s.0)),
+        filter: o.filter,
         exposure: None,
         checkpoint: 0.0,
         quiet: true,
@@ -168,6 +212,17 @@ pub fn run(args: RaytracerArgs) -> anyhow::Result<()> {
     }
     if let Some(out) = &o.normals {
         render(base(out.clone(), format!("debug(mode: normals, raw: {})", is_tga(out))))?;
+    }
+    if o.render_samples.is_some() || o.render_filter.is_some() {
+        let size = o.size.unwrap_or((200, 200));
+        let (pattern, n) = o.samples.unwrap_or((PixelPattern::Uniform, 1));
+        let filter = o.filter.unwrap_or_default();
+        if let Some((out, zoom)) = &o.render_samples {
+            super::course_views::render_samples(out, size, *zoom, pattern, filter, n)?;
+        }
+        if let Some((out, zoom)) = &o.render_filter {
+            super::course_views::render_filter(out, size, *zoom, filter)?;
+        }
     }
     Ok(())
 }

@@ -9,8 +9,15 @@
 //!
 //! Accelerators with leaves of several triangles (the kd-tree) use it: most triangles in a leaf the ray passes
 //! through are rejected by the edge test, four per SIMD pass.
+//!
+//! [`WatertightRay::intersect_packet`] goes further: the whole watertight test for four lanes at once — edge
+//! functions, determinant, scaled distance, range test and the rounding-error bound on `t` — with, lane by lane,
+//! exactly the operations of the scalar kernel in the same order (no fused or reassociated arithmetic), so each
+//! lane's hit, `t` and barycentrics are bit-identical to `intersect_soa`'s. Only lanes with an edge function exactly
+//! zero (a ray through an edge or vertex), where the scalar kernel recomputes in double precision, go through it.
 
-use super::triangle::{TriSoa, WatertightRay};
+use super::offset::gamma;
+use super::triangle::{TriSoa, TriangleHit, WatertightRay};
 use glam::{Vec3A, Vec4};
 
 /// Four triangles in structure-of-arrays form: `v[i][a]` lane k is coordinate `a` of vertex `i` of triangle k.
@@ -73,5 +80,77 @@ impl WatertightRay {
         let exact_zero = u.cmpeq(zero) | v.cmpeq(zero) | w.cmpeq(zero);
         let rejected = (neg & pos).bitmask() & !exact_zero.bitmask();
         !rejected & 0xF
+    }
+}
+
+impl WatertightRay {
+    /// The nearest hit with `t` in `(0, tmax)` among the lanes of `lanes` (bit k: lane k is a triangle), as
+    /// (lane, hit); ties go to the lowest lane. Each lane's result equals `intersect_soa` on that lane.
+    #[inline(always)]
+    pub fn intersect_packet(&self, p: &TriPacket, lanes: u32, tmax: f32) -> Option<(usize, TriangleHit)> {
+        let [o_x, o_y, o_z] = self.origin_splat().map(Vec4::splat);
+        let [r0, r1, r2] = self.shear_rows();
+        let c = |r: [f32; 3]| (Vec4::splat(r[0]), Vec4::splat(r[1]), Vec4::splat(r[2]));
+        let ((c00, c01, c02), (c10, c11, c12), (c20, c21, c22)) = (c(r0), c(r1), c(r2));
+        let d = |i: usize| (p.v[i][0] - o_x, p.v[i][1] - o_y, p.v[i][2] - o_z);
+        let (d0, d1, d2) = (d(0), d(1), d(2));
+        let sx = |d: (Vec4, Vec4, Vec4)| d.0 * c00 + d.1 * c01 + d.2 * c02;
+        let sy = |d: (Vec4, Vec4, Vec4)| d.0 * c10 + d.1 * c11 + d.2 * c12;
+        let sz = |d: (Vec4, Vec4, Vec4)| d.0 * c20 + d.1 * c21 + d.2 * c22;
+        let (x0, x1, x2) = (sx(d0), sx(d1), sx(d2));
+        let (y0, y1, y2) = (sy(d0), sy(d1), sy(d2));
+        let u = x2 * y1 - y2 * x1;
+        let v = x0 * y2 - y0 * x2;
+        let w = x1 * y0 - y1 * x0;
+        let zero = Vec4::ZERO;
+        let exact_zero = (u.cmpeq(zero) | v.cmpeq(zero) | w.cmpeq(zero)).bitmask() & lanes;
+        let neg = u.cmplt(zero) | v.cmplt(zero) | w.cmplt(zero);
+        let pos = u.cmpgt(zero) | v.cmpgt(zero) | w.cmpgt(zero);
+        let det = u + v + w;
+        let (z0, z1, z2) = (sz(d0), sz(d1), sz(d2));
+        let t_scaled = u * z0 + v * z1 + w * z2;
+        let limit = Vec4::splat(tmax) * det;
+        let in_range_pos = det.cmpgt(zero) & t_scaled.cmpgt(zero) & t_scaled.cmplt(limit);
+        let in_range_neg = det.cmplt(zero) & t_scaled.cmplt(zero) & t_scaled.cmpgt(limit);
+        let inv = Vec4::ONE / det;
+        let t = t_scaled * inv;
+        let max_zt = z0.abs().max(z1.abs()).max(z2.abs());
+        let max_xt = x0.abs().max(x1.abs()).max(x2.abs());
+        let max_yt = y0.abs().max(y1.abs()).max(y2.abs());
+        let delta_z = Vec4::splat(gamma(3)) * max_zt;
+        let delta_x = Vec4::splat(gamma(5)) * (max_xt + max_zt);
+        let delta_y = Vec4::splat(gamma(5)) * (max_yt + max_zt);
+        let delta_e =
+            Vec4::splat(2.0) * (Vec4::splat(gamma(2)) * max_xt * max_yt + delta_y * max_xt + delta_x * max_yt);
+        let max_e = u.abs().max(v.abs()).max(w.abs());
+        let delta_t = Vec4::splat(3.0)
+            * (Vec4::splat(gamma(3)) * max_e * max_zt + delta_e * max_zt + delta_z * max_e)
+            * inv.abs();
+        let ok = (in_range_pos | in_range_neg) & t.cmpgt(delta_t);
+        let valid = ok.bitmask() & !(neg & pos).bitmask() & lanes & !exact_zero;
+        let (ta, ua, va, wa, inva) = (t.to_array(), u.to_array(), v.to_array(), w.to_array(), inv.to_array());
+        let mut best: Option<(usize, TriangleHit)> = None;
+        let mut m = valid;
+        while m != 0 {
+            let k = m.trailing_zeros() as usize;
+            m &= m - 1;
+            if best.is_none_or(|(_, b)| ta[k] < b.t) {
+                let hit = TriangleHit { t: ta[k], b0: ua[k] * inva[k], b1: va[k] * inva[k], b2: wa[k] * inva[k] };
+                best = Some((k, hit));
+            }
+        }
+        // Lanes on an edge or vertex: the scalar kernel with its double-precision edge functions.
+        let mut m = exact_zero;
+        while m != 0 {
+            let k = m.trailing_zeros() as usize;
+            m &= m - 1;
+            let bound = best.map_or(tmax, |(_, b)| b.t);
+            if let Some(h) = self.intersect_soa(&p.lane(k), bound)
+                && best.is_none_or(|(bk, b)| h.t < b.t || (h.t == b.t && k < bk))
+            {
+                best = Some((k, h));
+            }
+        }
+        best
     }
 }
