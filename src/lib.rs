@@ -26,6 +26,7 @@ pub mod geometry;
 pub mod integrator;
 pub mod io;
 pub mod lights;
+pub mod limits;
 pub mod load;
 pub mod material;
 pub mod math;

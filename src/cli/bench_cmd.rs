@@ -115,7 +115,10 @@ fn interleaved_best(accels: &[Accel], prims: &Primitives, sets: [&[Ray]; 3], min
     let mut best = vec![[Duration::MAX; 3]; accels.len()];
     let mut spent = vec![[Duration::ZERO; 3]; accels.len()];
     let mut rounds = 0;
-    while rounds < 3 || spent.iter().flatten().any(|&t| t < min) {
+    // Empty ray sets (a camera that sees nothing has no bounce or shadow rays) are never timed, so they must not
+    // keep the loop going.
+    let wanting = |spent: &[[Duration; 3]]| spent.iter().any(|s| (0..3).any(|set| !sets[set].is_empty() && s[set] < min));
+    while rounds < 3 || wanting(&spent) {
         for (a, accel) in accels.iter().enumerate() {
             for set in 0..3 {
                 if sets[set].is_empty() || (rounds >= 3 && spent[a][set] >= min) {
@@ -141,10 +144,17 @@ fn interleaved_best(accels: &[Accel], prims: &Primitives, sets: [&[Ray]; 3], min
 }
 
 pub fn run(args: BenchArgs) -> anyhow::Result<()> {
-    if args.threads == 0 || args.size == 0 {
-        return Err(PrismError::invalid("--threads and --size must be at least 1").into());
+    crate::limits::threads(args.threads)?;
+    if args.size == 0 || args.size > crate::limits::MAX_BENCH_SIZE {
+        return Err(PrismError::invalid(format!(
+            "--size must be between 1 and {}, got {}",
+            crate::limits::MAX_BENCH_SIZE,
+            args.size
+        ))
+        .into());
     }
-    if !(args.seconds.is_finite() && args.seconds > 0.0) {
+    let min = crate::limits::seconds(args.seconds, "--seconds")?;
+    if min.is_zero() {
         return Err(PrismError::invalid("--seconds must be positive").into());
     }
     let kinds = parse_kinds(&args.accel, args.grid.as_deref())?;
@@ -152,7 +162,6 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
         .num_threads(args.threads)
         .build()
         .map_err(|e| PrismError::invalid(format!("cannot start {} threads: {e}", args.threads)))?;
-    let min = Duration::from_secs_f64(args.seconds);
     let mut rows = Vec::new();
     for path in &args.scenes {
         let mut app = App::with_default_plugins();

@@ -52,15 +52,19 @@ pub fn run(a: ConvergeArgs) -> anyhow::Result<()> {
     let budgets: Vec<Budget> = if !a.spp.is_empty() {
         a.spp.iter().map(|&n| Budget::Spp(n)).collect()
     } else if !a.times.is_empty() {
-        if a.times.iter().any(|t| !(t.is_finite() && *t > 0.0)) {
-            return Err(PrismError::invalid("--times must be positive numbers of seconds").into());
+        if a.times.iter().any(|t| !(t.is_finite() && *t > 0.0 && *t <= crate::limits::MAX_SECONDS)) {
+            return Err(PrismError::invalid(format!(
+                "--times must be positive numbers of seconds (at most {})",
+                crate::limits::MAX_SECONDS
+            ))
+            .into());
         }
         a.times.iter().map(|&t| Budget::Seconds(t)).collect()
     } else {
         return Err(PrismError::invalid("give the budgets with --spp N,N,... or --times S,S,...").into());
     };
-    if a.threads == Some(0) {
-        return Err(PrismError::invalid("--threads must be at least 1").into());
+    if let Some(t) = a.threads {
+        crate::limits::threads(t)?;
     }
     let reference = read_image(&a.reference)?;
     let peer: Option<PeerCurve> =
