@@ -27,8 +27,11 @@ pub fn run(args: ConvertArgs) -> anyhow::Result<()> {
         Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
         _ => PathBuf::from("."),
     };
-    let text = mit6837::convert_file(&args.input, &out_dir)?.ron;
-    parse_scene(&text, &args.output)?;
+    let text = crate::load::with_loader_stack(|| {
+        let text = mit6837::convert_file(&args.input, &out_dir)?.ron;
+        parse_scene(&text, &args.output)?;
+        Ok(text)
+    })?;
     std::fs::write(&args.output, text).map_err(|e| PrismError::io(&args.output, e))?;
     Ok(())
 }

@@ -1,6 +1,7 @@
 //! The Load stage: read the scene (RON, a bare OBJ mesh, or a 6.837 `.txt` scene), spawn its entities, and resolve
 //! the render settings from the file and the command-line overrides.
 
+mod deep_stack;
 pub mod desc;
 mod material_desc;
 mod materials;
@@ -10,6 +11,7 @@ mod ron_scene;
 mod spawn;
 mod transform;
 
+pub use deep_stack::{LOADER_STACK_BYTES, RON_RECURSION_LIMIT, with_loader_stack};
 pub use obj::{ObjPart, load_obj};
 pub use ron_scene::{describe as describe_ron_error, line_col, parse_scene, plugin_config};
 pub use spawn::{FileSettings, camera_component, spawn_scene};
@@ -39,14 +41,15 @@ pub fn load_scene_system(world: &mut World, res: &mut Resources) -> Result<()> {
         SceneSource::File(path) => std::fs::read(path).map(|b| hash_bytes(&b)).unwrap_or(0),
         SceneSource::RonText { text, .. } => hash_bytes(text.as_bytes()),
     };
-    let file_settings = match res.source.clone() {
-        SceneSource::Prebuilt => FileSettings::default(),
-        SceneSource::File(path) => load_file(&path, world, res)?,
+    // Parsing and spawning recurse once per nesting level: on a stack sized for the deepest nesting accepted.
+    let file_settings = with_loader_stack(|| match res.source.clone() {
+        SceneSource::Prebuilt => Ok(FileSettings::default()),
+        SceneSource::File(path) => load_file(&path, world, res),
         SceneSource::RonText { text, name, base_dir } => {
             let desc = parse_scene(&text, &name)?;
-            spawn_scene(&desc, &text, &name, &base_dir, world, res)?
+            spawn_scene(&desc, &text, &name, &base_dir, world, res)
         }
-    };
+    })?;
     if res.materials.is_empty() {
         res.materials.push(Material::default());
     }

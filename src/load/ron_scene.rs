@@ -10,7 +10,9 @@ use std::path::Path;
 
 /// Parse scene text. `file` only names the source in errors.
 pub fn parse_scene<'a>(text: &'a str, file: &Path) -> Result<SceneDesc<'a>> {
-    let opts = ron::Options::default().with_default_extension(Extensions::IMPLICIT_SOME);
+    let opts = ron::Options::default()
+        .with_default_extension(Extensions::IMPLICIT_SOME)
+        .with_recursion_limit(super::RON_RECURSION_LIMIT);
     opts.from_str::<SceneDesc>(text).map_err(|e| PrismError::Parse {
         pos: SourcePos { file: file.to_path_buf(), line: e.span.start.line, col: e.span.start.col },
         message: describe(&e.code),
@@ -37,6 +39,10 @@ pub fn describe(code: &ron::Error) -> String {
         }
         ron::Error::MissingStructField { field, .. } => format!("missing field `{field}`"),
         ron::Error::DuplicateStructField { field, .. } => format!("field `{field}` given twice"),
+        ron::Error::ExceededRecursionLimit => format!(
+            "nested too deeply (Prism reads at most {} levels of nested entities)",
+            crate::limits::MAX_NESTING_DEPTH
+        ),
         other => rename_types(&other.to_string()),
     }
 }

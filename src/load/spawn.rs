@@ -356,7 +356,7 @@ impl Spawner<'_> {
             world.spawn(cb.build());
         }
         for (i, c) in e.children.iter().enumerate() {
-            self.spawn_entity(world, c, Some(entity), material_name, &format!("{path}.children[{i}]"))?;
+            self.spawn_entity(world, c, Some(entity), material_name, &child_path(path, i))?;
         }
         Ok(())
     }
@@ -468,6 +468,22 @@ impl Spawner<'_> {
         }
         Ok(ShapeOut::Parts(parts))
     }
+}
+
+/// The label of an unnamed child: `entities[0].children[2]`; deep paths keep their start and the nesting level
+/// (`entities[0].children[0]....children[2] (level 5000)`) so labels stay short at any depth.
+fn child_path(path: &str, i: usize) -> String {
+    const KEEP: usize = 120;
+    let level = match path.rfind(" (level ") {
+        Some(at) => path[at + 8..].trim_end_matches(')').parse::<usize>().unwrap_or(0) + 1,
+        None => path.matches(".children[").count() + 1,
+    };
+    if path.len() < KEEP {
+        return format!("{path}.children[{i}]");
+    }
+    let head: String = path.chars().take(KEEP / 2).collect();
+    let head = head.rsplit_once(".children[").map_or(head.as_str(), |(h, _)| h).to_string();
+    format!("{head}....children[{i}] (level {level})")
 }
 
 #[derive(Clone)]
