@@ -117,7 +117,8 @@ fn interleaved_best(accels: &[Accel], prims: &Primitives, sets: [&[Ray]; 3], min
     let mut rounds = 0;
     // Empty ray sets (a camera that sees nothing has no bounce or shadow rays) are never timed, so they must not
     // keep the loop going.
-    let wanting = |spent: &[[Duration; 3]]| spent.iter().any(|s| (0..3).any(|set| !sets[set].is_empty() && s[set] < min));
+    let wanting =
+        |spent: &[[Duration; 3]]| spent.iter().any(|s| (0..3).any(|set| !sets[set].is_empty() && s[set] < min));
     while rounds < 3 || wanting(&spent) {
         for (a, accel) in accels.iter().enumerate() {
             for set in 0..3 {

@@ -4,8 +4,7 @@
 mod image_read;
 
 pub use image_read::{
-    file_kind, open_regular, read_exr_bytes, read_exr_file, read_exr_from, read_hdr_bytes, read_hdr_file,
-    read_hdr_from,
+    file_kind, open_regular, read_exr_bytes, read_exr_file, read_exr_from, read_hdr_bytes, read_hdr_file, read_hdr_from,
 };
 
 use crate::error::{PrismError, Result};

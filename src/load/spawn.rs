@@ -143,8 +143,15 @@ pub fn camera_component(c: &CameraDesc, ctx: &str) -> Result<Camera> {
             return Err(PrismError::scene(ctx, format!("fov must be between 0 and 180 degrees, got {}", c.fov)));
         }
     };
+    if eye.abs().max(target.abs()).max_element() > crate::limits::MAX_COORDINATE {
+        return Err(PrismError::scene(
+            ctx,
+            format!("eye and target must lie within Prism's coordinate limit of {:e}", crate::limits::MAX_COORDINATE),
+        ));
+    }
     let fwd = target - eye;
-    if fwd.length_squared() == 0.0 || fwd.cross(up).length_squared() == 0.0 {
+    let (fwd_unit, up_unit) = (crate::math::unit_vector(fwd), crate::math::unit_vector(up));
+    if fwd_unit.zip(up_unit).is_none_or(|(f, u)| f.cross(u).length_squared() < 1e-12) {
         return Err(PrismError::scene(
             ctx,
             "eye, target and up do not define a view (eye == target or up parallel to the view)",
@@ -238,12 +245,12 @@ impl Spawner<'_> {
                     (None, Some(t)) => point(*t, "target", &ctx)? - position,
                     (None, None) => Vec3::NEG_Y,
                 };
-                if direction == Vec3::ZERO {
+                let Some(direction) = crate::math::unit_vector(direction) else {
                     return Err(PrismError::scene(
                         &ctx,
                         "spot light direction is the zero vector (target == position)",
                     ));
-                }
+                };
                 if !(cone_angle.is_finite() && *cone_angle > 0.0 && *cone_angle <= 180.0) {
                     return Err(PrismError::scene(
                         &ctx,
@@ -265,10 +272,9 @@ impl Spawner<'_> {
                 })
             }
             Some(LightDesc::Directional { irradiance, direction }) => {
-                let d = point(*direction, "direction", &ctx)?;
-                if d == Vec3::ZERO {
+                let Some(d) = crate::math::unit_vector(point(*direction, "direction", &ctx)?) else {
                     return Err(PrismError::scene(&ctx, "directional light direction is the zero vector"));
-                }
+                };
                 Some(Light::Directional { irradiance: color(*irradiance, "irradiance", &ctx)?, direction: d })
             }
             Some(LightDesc::Area { radiance, two_sided }) => {
@@ -374,8 +380,21 @@ impl Spawner<'_> {
                 if n == Vec3::ZERO || !offset.is_finite() {
                     return Err(PrismError::scene(ctx, "plane needs a non-zero normal and a finite offset"));
                 }
-                let len = n.length();
-                Shape::Plane { normal: n / len, offset: offset / len }
+                // In f64: the squared length of a tiny normal (1e-30) would underflow in f32.
+                let n64 = n.as_dvec3();
+                let len = n64.length();
+                let d = *offset as f64 / len;
+                if d.abs() > crate::limits::MAX_COORDINATE as f64 {
+                    return Err(PrismError::scene(
+                        ctx,
+                        format!(
+                            "plane `normal . x = offset` lies {d:e} from the origin, beyond Prism's coordinate limit \
+                             of {:e}",
+                            crate::limits::MAX_COORDINATE
+                        ),
+                    ));
+                }
+                Shape::Plane { normal: (n64 / len).as_vec3(), offset: d as f32 }
             }
             ShapeDesc::Triangle { vertices, normals, uvs } => {
                 let p = [
@@ -390,8 +409,7 @@ impl Spawner<'_> {
                     .map(|ns| -> Result<[Vec3; 3]> {
                         let mut out = [Vec3::ZERO; 3];
                         for (o, v) in out.iter_mut().zip(ns) {
-                            *o = point(v, "normal", ctx)?
-                                .try_normalize()
+                            *o = crate::math::unit_vector(point(v, "normal", ctx)?)
                                 .ok_or_else(|| PrismError::scene(ctx, "triangle normal is zero"))?;
                         }
                         Ok(out)
