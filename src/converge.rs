@@ -100,7 +100,7 @@ pub fn measure(
 /// Read a peer curve from a CSV with a header containing `scene,spp,seconds,rmse,variant` columns (and, if the CSV
 /// has a `sampler` column and `sampler` is given, only that sampler's rows).
 pub fn read_peer(path: &Path, scene: &str, variant: &str, sampler: Option<&str>) -> Result<PeerCurve> {
-    let text = std::fs::read_to_string(path).map_err(|e| PrismError::io(path, e))?;
+    let text = crate::io::read_regular_text(path, "peer curves file")?;
     let mut lines = text.lines();
     let header: Vec<&str> = lines.next().unwrap_or("").split(',').map(str::trim).collect();
     let col = |name: &str| {

@@ -8,7 +8,7 @@ fn main() -> ExitCode {
     match prism::cli::run(cli) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("error: {e}");
+            eprintln!("error: {}", prism::error::printable(&e.to_string()));
             ExitCode::FAILURE
         }
     }

@@ -106,7 +106,7 @@ impl RaySetFile {
 
     /// Read a file written by [`RaySetFile::write`], checking its header against its length before allocating.
     pub fn read(path: &Path) -> Result<Self> {
-        let bytes = std::fs::read(path).map_err(|e| PrismError::io(path, e))?;
+        let bytes = crate::io::read_regular(path, "ray-set file")?;
         let bad = |m: &str| PrismError::format(path, m.to_string());
         if bytes.len() < 28 || &bytes[..8] != MAGIC {
             return Err(bad("not a Prism ray-set file (bad magic)"));

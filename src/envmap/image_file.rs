@@ -35,7 +35,7 @@ pub fn read(path: &Path) -> Result<(EnvImage, usize)> {
         }
     }
     if clamped > 0 {
-        eprintln!("warning: {}: {clamped} NaN or negative texel values set to 0", path.display());
+        crate::error::warn(&format!("{}: {clamped} NaN or negative texel values set to 0", path.display()));
     }
     Ok((EnvImage { width, height, texels }, clamped))
 }

@@ -9,46 +9,11 @@
 
 use super::Image;
 use crate::error::{PrismError, Result};
+use super::files::open_regular;
 use crate::limits::check_input_image_size;
 use glam::Vec3;
 use std::io::{BufRead, BufReader, Read, Seek, SeekFrom};
 use std::path::Path;
-
-/// Open `path` for reading if it is a regular file; returns the file and its length. `what` names the kind of
-/// file in the not-found message ("image file", "environment map").
-pub fn open_regular(path: &Path, what: &str) -> Result<(std::fs::File, u64)> {
-    let meta = std::fs::metadata(path).map_err(|e| {
-        let msg = if e.kind() == std::io::ErrorKind::NotFound { format!("{what} not found") } else { e.to_string() };
-        PrismError::io(path, std::io::Error::new(e.kind(), msg))
-    })?;
-    if !meta.is_file() {
-        return Err(PrismError::format(path, format!("{what} is {}, not a regular file", file_kind(&meta))));
-    }
-    let file = std::fs::File::open(path).map_err(|e| PrismError::io(path, e))?;
-    Ok((file, meta.len()))
-}
-
-/// "a directory", "a named pipe (FIFO)", ... for messages about paths that are not regular files.
-pub fn file_kind(meta: &std::fs::Metadata) -> &'static str {
-    let t = meta.file_type();
-    if t.is_dir() {
-        return "a directory";
-    }
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::FileTypeExt;
-        if t.is_fifo() {
-            return "a named pipe (FIFO)";
-        }
-        if t.is_char_device() || t.is_block_device() {
-            return "a device";
-        }
-        if t.is_socket() {
-            return "a socket";
-        }
-    }
-    "not a regular file"
-}
 
 /// An OpenEXR file's first RGB(A) layer, linear f32.
 pub fn read_exr_file(path: &Path) -> Result<Image> {

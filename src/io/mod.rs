@@ -1,11 +1,11 @@
 //! Image files: linear RGB f32 OpenEXR (exr crate) and 8-bit sRGB PNG with an exposure (image crate). Writes go to
 //! a temporary file renamed into place, so an interrupted write never leaves a half-written image behind.
 
+mod files;
 mod image_read;
 
-pub use image_read::{
-    file_kind, open_regular, read_exr_bytes, read_exr_file, read_exr_from, read_hdr_bytes, read_hdr_file, read_hdr_from,
-};
+pub use files::{file_kind, open_regular, read_regular, read_regular_text};
+pub use image_read::{read_exr_bytes, read_exr_file, read_exr_from, read_hdr_bytes, read_hdr_file, read_hdr_from};
 
 use crate::error::{PrismError, Result};
 use glam::Vec3;

@@ -7,12 +7,13 @@ mod material_desc;
 mod materials;
 pub mod mit6837;
 mod obj;
+mod obj_check;
 mod ron_scene;
 mod spawn;
 mod transform;
 
 pub use deep_stack::{LOADER_STACK_BYTES, RON_RECURSION_LIMIT, with_loader_stack};
-pub use obj::{ObjPart, load_obj};
+pub use obj::{ObjPart, load_obj, parse_obj};
 pub use ron_scene::{describe as describe_ron_error, line_col, parse_scene, plugin_config};
 pub use spawn::{FileSettings, camera_component, spawn_scene};
 pub use transform::{check_affine, compose};
@@ -38,7 +39,7 @@ pub fn entity_label(world: &World, e: hecs::Entity) -> String {
 pub fn load_scene_system(world: &mut World, res: &mut Resources) -> Result<()> {
     res.scene_hash = match &res.source {
         SceneSource::Prebuilt => 0,
-        SceneSource::File(path) => std::fs::read(path).map(|b| hash_bytes(&b)).unwrap_or(0),
+        SceneSource::File(path) => hash_bytes(&crate::io::read_regular(path, "scene file")?),
         SceneSource::RonText { text, .. } => hash_bytes(text.as_bytes()),
     };
     // Parsing and spawning recurse once per nesting level: on a stack sized for the deepest nesting accepted.
@@ -65,7 +66,7 @@ fn load_file(path: &Path, world: &mut World, res: &mut Resources) -> Result<File
     let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
     match ext.as_str() {
         "ron" => {
-            let text = std::fs::read_to_string(path).map_err(|e| PrismError::io(path, e))?;
+            let text = crate::io::read_regular_text(path, "scene file")?;
             let base = path.parent().unwrap_or(Path::new("."));
             let desc = parse_scene(&text, path)?;
             spawn_scene(&desc, &text, path, base, world, res)
@@ -92,9 +93,7 @@ fn load_file(path: &Path, world: &mut World, res: &mut Resources) -> Result<File
 /// A bare OBJ file as a scene: the mesh with its MTL materials, a camera framing it from +z, and a headlight
 /// (a directional light along the view, irradiance pi, so an albedo-a surface facing the camera shows radiance a).
 fn load_obj_scene(path: &Path, world: &mut World, res: &mut Resources) -> Result<FileSettings> {
-    if !path.is_file() {
-        return Err(PrismError::io(path, std::io::Error::new(std::io::ErrorKind::NotFound, "scene file not found")));
-    }
+    crate::io::open_regular(path, "scene file")?;
     res.materials.push(Material::default());
     let parts = load_obj(path)?;
     let mut lo = Vec3::splat(f32::INFINITY);

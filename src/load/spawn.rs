@@ -453,8 +453,8 @@ impl Spawner<'_> {
                 format!("mesh '{}': unsupported format (expected .obj)", path.display()),
             ));
         }
-        if !path.is_file() {
-            return Err(PrismError::scene(ctx, format!("mesh file not found: {}", path.display())));
+        if let Err(e) = crate::io::open_regular(path, "mesh file") {
+            return Err(PrismError::scene(ctx, e.to_string()));
         }
         let key = path.to_path_buf();
         let parts = if let Some(p) = self.part_cache.get(&(key.clone(), flat)) {

@@ -457,12 +457,8 @@ impl Parser<'_> {
                 if !name.text.to_ascii_lowercase().ends_with(".obj") {
                     return Err(self.error_at(name.line, name.col, format!("obj_file `{}` is not .obj", name.text)));
                 }
-                if !path.is_file() {
-                    return Err(self.error_at(
-                        name.line,
-                        name.col,
-                        format!("obj_file `{}` not found ({})", name.text, path.display()),
-                    ));
+                if let Err(e) = crate::io::open_regular(&path, "obj_file") {
+                    return Err(self.error_at(name.line, name.col, e.to_string()));
                 }
                 self.expect("}", "to close TriangleMesh")?;
                 ObjectTxt::Mesh { line, path, material: self.material_for(t)? }
