@@ -12,6 +12,8 @@ use crate::io::Image;
 use crate::settings::Overrides;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 /// What to spend per render.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -45,6 +47,9 @@ pub struct PeerCurve {
 pub type Crop = [u32; 4];
 
 /// Render `scene` once per (integrator, budget) and measure against `reference` (over `crop` if given).
+/// `on_point` sees each point as it is measured (the CLI writes the results so far). When `cancel` is set
+/// (Ctrl-C) the render in progress stops, its point is dropped and the points measured so far are returned.
+#[allow(clippy::too_many_arguments)]
 pub fn measure(
     scene: &Path,
     reference: &Image,
@@ -52,7 +57,8 @@ pub fn measure(
     budgets: &[Budget],
     base: &Overrides,
     crop: Option<Crop>,
-    mut on_point: impl FnMut(&ConvergencePoint),
+    cancel: &Arc<AtomicBool>,
+    mut on_point: impl FnMut(&ConvergencePoint, &[ConvergencePoint]) -> Result<()>,
 ) -> Result<Vec<ConvergencePoint>> {
     let cut = |img: &Image| match crop {
         Some([x, y, w, h]) => img.crop(x, y, w, h),
@@ -78,7 +84,11 @@ pub fn measure(
                 }
             }
             app.resources.overrides = o;
+            app.resources.cancel = cancel.clone();
             app.run()?;
+            if app.resources.progress.interrupted || cancel.load(Ordering::Relaxed) {
+                return Ok(out);
+            }
             let img = crate::render::film_image(&app.resources).ok_or_else(|| PrismError::invalid("no image"))?;
             let m = compare(&cut(&img), reference)?;
             let p = ConvergencePoint {
@@ -90,8 +100,8 @@ pub fn measure(
                 relmse: m.relmse,
                 mae: m.mae,
             };
-            on_point(&p);
             out.push(p);
+            on_point(&out[out.len() - 1], &out)?;
         }
     }
     Ok(out)

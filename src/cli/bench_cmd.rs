@@ -183,6 +183,7 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
             materials: vec![],
             textures: Default::default(),
             globals: scene.globals,
+            cancel: Default::default(),
         };
         let (bounce, shadow) = secondary_rays(&scene_for_rays, &camera, 1);
         if let Some(dir) = &args.export_rays {

@@ -92,14 +92,26 @@ pub fn run(a: ConvergeArgs) -> anyhow::Result<()> {
     }
     let pool = builder.build().map_err(|e| PrismError::invalid(format!("cannot start threads: {e}")))?;
     eprintln!("{:<40} {:>6} {:>9} {:>9} {:>10}", "integrator", "spp", "seconds", "cpu s", "RMSE");
+    let title = a.scene.file_stem().map(|s| s.to_string_lossy().to_string()).unwrap_or_default();
+    // Ctrl-C stops the render in progress; the points measured so far are written (they are rewritten after
+    // every point anyway, so even a killed run leaves its results).
+    let cancel = super::render_cmd::cancel_flag();
     let points = pool.install(|| {
-        measure(&a.scene, &reference, &a.integrators, &budgets, &base, crop, |p| {
+        measure(&a.scene, &reference, &a.integrators, &budgets, &base, crop, &cancel, |p, so_far| {
             let cpu = p.cpu_seconds.map_or("-".into(), |c| format!("{c:.3}"));
             eprintln!("{:<40} {:>6} {:>9.3} {:>9} {:>10.5}", p.integrator, p.spp, p.seconds, cpu, p.rmse);
+            write_results(&a.output, so_far, peer.as_ref(), &title).map(|_| ())
         })
     })?;
-    let title = a.scene.file_stem().map(|s| s.to_string_lossy().to_string()).unwrap_or_default();
     let files = write_results(&a.output, &points, peer.as_ref(), &title)?;
+    if cancel.load(std::sync::atomic::Ordering::Relaxed) {
+        return Err(anyhow::anyhow!(
+            "interrupted: wrote the {} of {} points measured so far to {}",
+            points.len(),
+            a.integrators.len() * budgets.len(),
+            a.output.display()
+        ));
+    }
     if let Some(peer) = &peer {
         // Equal-error time: when does each curve reach the peer's lowest error?
         let target = peer.points.iter().map(|p| p.2).fold(f64::INFINITY, f64::min);

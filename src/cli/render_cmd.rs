@@ -138,7 +138,7 @@ pub(super) fn parse_size(s: &str) -> Result<(u32, u32), String> {
 }
 
 /// The process-wide cancel flag, set by Ctrl-C.
-fn cancel_flag() -> Arc<AtomicBool> {
+pub(super) fn cancel_flag() -> Arc<AtomicBool> {
     static FLAG: OnceLock<Arc<AtomicBool>> = OnceLock::new();
     FLAG.get_or_init(|| {
         let flag = Arc::new(AtomicBool::new(false));

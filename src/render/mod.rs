@@ -57,6 +57,7 @@ pub fn build_scene_system(world: &mut World, res: &mut Resources) -> Result<()> 
         materials: res.materials.clone(),
         textures: res.textures.clone(),
         globals: res.globals,
+        cancel: res.cancel.clone(),
     });
     res.progress.setup += t0.elapsed();
     Ok(())
