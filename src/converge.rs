@@ -166,6 +166,9 @@ pub fn time_to_error(points: &[(f64, f64)], target: f64) -> Option<f64> {
     pts.first().filter(|(_, e)| *e <= target).map(|(t, _)| *t)
 }
 
+/// The files [`write_results`] writes into its directory.
+pub const RESULT_FILES: [&str; 3] = ["convergence.csv", "rmse_vs_time.svg", "rmse_vs_spp.svg"];
+
 /// Write `convergence.csv`, `rmse_vs_time.svg` and `rmse_vs_spp.svg` into `dir`; returns their paths.
 pub fn write_results(
     dir: &Path,

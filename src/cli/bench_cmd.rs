@@ -159,6 +159,14 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
         return Err(PrismError::invalid("--seconds must be positive").into());
     }
     let kinds = parse_kinds(&args.accel, args.grid.as_deref())?;
+    // Outputs are checked before the (long) measurements: the chart's directory is writable and no output is a scene.
+    if let Some(chart) = &args.chart {
+        crate::io::check_outputs(std::slice::from_ref(chart), &args.scenes)?;
+    }
+    if let Some(dir) = &args.export_rays {
+        std::fs::create_dir_all(dir).map_err(|e| PrismError::io(dir, e))?;
+        crate::io::check_writable_dir(&dir.join("rays.prism-rays"))?;
+    }
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(args.threads)
         .build()
@@ -236,7 +244,7 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
             });
         }
     }
-    println!("{}", table(&rows, args.threads, args.size));
+    super::print_stdout(&format!("{}\n", table(&rows, args.threads, args.size)))?;
     if let Some(chart) = &args.chart {
         chart_of(&rows, args.threads).write_svg(chart)?;
         eprintln!("wrote {}", chart.display());

@@ -66,6 +66,14 @@ pub fn run(a: ConvergeArgs) -> anyhow::Result<()> {
     if let Some(t) = a.threads {
         crate::limits::threads(t)?;
     }
+    // The output directory and every file written into it are checked before the first render: it exists (or is
+    // created) and is writable, and no result would overwrite an input (scene, its meshes and maps, reference, peer).
+    std::fs::create_dir_all(&a.output).map_err(|e| PrismError::io(&a.output, e))?;
+    let results = crate::converge::RESULT_FILES.map(|f| a.output.join(f));
+    let mut inputs = scene_inputs(&a.scene)?;
+    inputs.push(a.reference.clone());
+    inputs.extend(a.peer.iter().cloned());
+    crate::io::check_outputs(&results, &inputs)?;
     let reference = read_image(&a.reference)?;
     let peer: Option<PeerCurve> =
         a.peer.as_ref().map(|p| read_peer(p, &a.peer_scene, &a.peer_variant, a.peer_sampler.as_deref())).transpose()?;
@@ -142,4 +150,12 @@ pub fn run(a: ConvergeArgs) -> anyhow::Result<()> {
     }
     eprintln!("wrote {}", files.iter().map(|f| f.display().to_string()).collect::<Vec<_>>().join(", "));
     Ok(())
+}
+
+/// The files a scene reads (the scene itself, meshes, textures, environment maps): its Load stage alone.
+fn scene_inputs(scene: &std::path::Path) -> anyhow::Result<Vec<PathBuf>> {
+    let mut app = crate::app::App::with_default_plugins();
+    app.resources.source = crate::app::SceneSource::File(scene.to_path_buf());
+    app.run_stage(crate::app::Stage::Load)?;
+    Ok(std::mem::take(&mut app.resources.inputs))
 }

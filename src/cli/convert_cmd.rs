@@ -23,6 +23,7 @@ pub fn run(args: ConvertArgs) -> anyhow::Result<()> {
     if ext(&args.output) != "ron" {
         return Err(PrismError::invalid(format!("{}: the output must be a .ron file", args.output.display())).into());
     }
+    crate::io::check_outputs(std::slice::from_ref(&args.output), std::slice::from_ref(&args.input))?;
     let out_dir = match args.output.parent() {
         Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
         _ => PathBuf::from("."),

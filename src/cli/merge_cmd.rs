@@ -37,10 +37,11 @@ pub fn run(a: MergeArgs) -> anyhow::Result<()> {
             ))
             .into());
         }
-        if a.parts.contains(o) {
+        if a.parts.iter().any(|p| p == o || crate::io::same_file(p, o)) {
             return Err(PrismError::invalid(format!("{}: the output would overwrite an input", o.display())).into());
         }
     }
+    crate::io::check_outputs(&a.output, &a.parts)?;
     let mut first = read_film(&a.parts[0])?;
     let n = first.header.shard.1;
     let mut seen = vec![false; n as usize];

@@ -50,6 +50,7 @@ pub fn read_regular(path: &Path, what: &str) -> Result<Vec<u8>> {
 
 /// The content of the regular file `path` as UTF-8 text.
 pub fn read_regular_text(path: &Path, what: &str) -> Result<String> {
-    String::from_utf8(read_regular(path, what)?)
-        .map_err(|e| PrismError::format(path, format!("{what} is not UTF-8 text (byte {})", e.utf8_error().valid_up_to())))
+    String::from_utf8(read_regular(path, what)?).map_err(|e| {
+        PrismError::format(path, format!("{what} is not UTF-8 text (byte {})", e.utf8_error().valid_up_to()))
+    })
 }

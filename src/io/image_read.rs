@@ -8,8 +8,8 @@
 //! The `_from` functions read any `Read + Seek` source of known length (a file, or bytes in memory for fuzzing).
 
 use super::Image;
-use crate::error::{PrismError, Result};
 use super::files::open_regular;
+use crate::error::{PrismError, Result};
 use crate::limits::check_input_image_size;
 use glam::Vec3;
 use std::io::{BufRead, BufReader, Read, Seek, SeekFrom};

@@ -3,9 +3,11 @@
 
 mod files;
 mod image_read;
+mod output_check;
 
 pub use files::{file_kind, open_regular, read_regular, read_regular_text};
 pub use image_read::{read_exr_bytes, read_exr_file, read_exr_from, read_hdr_bytes, read_hdr_file, read_hdr_from};
+pub use output_check::{check_outputs, check_writable_dir, same_file};
 
 use crate::error::{PrismError, Result};
 use glam::Vec3;

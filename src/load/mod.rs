@@ -57,12 +57,21 @@ pub fn load_scene_system(world: &mut World, res: &mut Resources) -> Result<()> {
     resolve_settings(world, res, file_settings)
 }
 
+/// Load-stage system, after the scene is loaded: every output (images, the film checkpoints write) can be written
+/// and overwrites none of the scene's inputs, before any rendering starts.
+pub fn check_outputs_system(_world: &mut World, res: &mut Resources) -> Result<()> {
+    let mut outputs = res.outputs.clone();
+    outputs.extend(res.film_path.iter().cloned());
+    crate::io::check_outputs(&outputs, &res.inputs)
+}
+
 /// FNV-1a 64 of a scene file (part of a film's fingerprint).
 fn hash_bytes(b: &[u8]) -> u64 {
     b.iter().fold(0xcbf2_9ce4_8422_2325u64, |h, &x| (h ^ x as u64).wrapping_mul(0x0000_0100_0000_01b3))
 }
 
 fn load_file(path: &Path, world: &mut World, res: &mut Resources) -> Result<FileSettings> {
+    res.inputs.push(path.to_path_buf());
     let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
     match ext.as_str() {
         "ron" => {

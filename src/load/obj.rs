@@ -43,11 +43,7 @@ pub fn load_obj(path: &Path) -> Result<Vec<ObjPart>> {
 
 /// Parse OBJ text (`name` names it in errors); `mtl` returns the path and bytes of a material library named by an
 /// `mtllib` line, or `None` if it cannot be read. Never touches the disk itself.
-pub fn parse_obj(
-    obj: &[u8],
-    name: &Path,
-    mtl: impl Fn(&Path) -> Option<(PathBuf, Vec<u8>)>,
-) -> Result<Vec<ObjPart>> {
+pub fn parse_obj(obj: &[u8], name: &Path, mtl: impl Fn(&Path) -> Option<(PathBuf, Vec<u8>)>) -> Result<Vec<ObjPart>> {
     let at = |line: usize, message: String| PrismError::Parse {
         pos: SourcePos { file: name.to_path_buf(), line, col: 1 },
         message,
@@ -81,10 +77,12 @@ pub fn parse_obj(
     };
     let libraries = libraries.into_inner();
     let mtl_error = |material: &str, key: &str, message: String| {
-        let place = libraries.iter().find(|(_, t)| t.lines().any(|l| {
-            let mut w = l.split_whitespace();
-            w.next() == Some("newmtl") && w.collect::<Vec<_>>().join(" ") == material
-        }));
+        let place = libraries.iter().find(|(_, t)| {
+            t.lines().any(|l| {
+                let mut w = l.split_whitespace();
+                w.next() == Some("newmtl") && w.collect::<Vec<_>>().join(" ") == material
+            })
+        });
         match place {
             Some((p, t)) => PrismError::Parse {
                 pos: SourcePos { file: p.clone(), line: mtl_line(t, material, key), col: 1 },
@@ -156,8 +154,8 @@ pub fn parse_obj(
                     Some(4 | 6 | 7 | 9) => {
                         let tf = match mtl.unknown_param.get("Tf") {
                             None => Vec3::ONE,
-                            Some(t) => parse_rgb(t).filter(|c| c.is_finite() && c.min_element() >= 0.0).ok_or_else(
-                                || {
+                            Some(t) => {
+                                parse_rgb(t).filter(|c| c.is_finite() && c.min_element() >= 0.0).ok_or_else(|| {
                                     mtl_error(
                                         &mtl.name,
                                         "Tf",
@@ -167,8 +165,8 @@ pub fn parse_obj(
                                             crate::error::printable(t)
                                         ),
                                     )
-                                },
-                            )?,
+                                })?
+                            }
                         };
                         let ior = mtl.optical_density.unwrap_or(1.5);
                         if !(ior.is_finite() && ior > 0.0) {

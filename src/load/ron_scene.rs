@@ -48,14 +48,47 @@ pub fn describe(code: &ron::Error) -> String {
 }
 
 fn rename_types(s: &str) -> String {
-    s.replace("`SceneDesc`", "the scene")
-        .replace("`RenderDesc`", "`render`")
-        .replace("`CameraDesc`", "`camera`")
-        .replace("`EntityDesc`", "an entity")
-        .replace("`MaterialDesc`", "a material")
-        .replace("`ShapeDesc`", "a shape")
-        .replace("`LightDesc`", "a light")
-        .replace("`TransformOp`", "a transform")
+    // Serde names the schema's Rust types (`expected enum AccelDesc`); say what they are in the file instead.
+    const NAMES: [(&str, &str); 30] = [
+        ("SceneDesc", "the scene"),
+        ("RenderDesc", "`render`"),
+        ("CameraDesc", "`camera`"),
+        ("EntityDesc", "an entity"),
+        ("MaterialDesc", "a material"),
+        ("ShapeDesc", "a shape"),
+        ("LightDesc", "a light"),
+        ("TransformOp", "a transform"),
+        ("AccelDesc", "an accelerator (`bvh`, `kdtree`, `grid` or `brute`)"),
+        ("TextureDesc", "a texture"),
+        ("TextureRef", "a texture reference"),
+        ("ColorDesc", "a colour"),
+        ("ScalarDesc", "a number or texture"),
+        ("ScaleDesc", "a scale"),
+        ("Channel", "a channel (`R`, `G`, `B` or `Mean`)"),
+        ("Wrap", "a wrap mode"),
+        ("SourceLayout", "a layout (`Equirect`, `Cross` or `Faces`)"),
+        ("SamplerKind", "a sampler"),
+        ("PixelPattern", "a pixel pattern"),
+        ("PixelFilter", "a pixel filter"),
+        ("PhongParams", "phong's parameters"),
+        ("EnvlightParams", "envlight's parameters"),
+        ("PpmParams", "ppm's parameters"),
+        ("DebugParams", "debug's parameters"),
+        ("EnvStrategy", "an environment sampling strategy"),
+        ("DebugMode", "a debug mode"),
+        ("HeatCount", "a heat count"),
+        ("PpmMode", "a ppm mode"),
+        ("PhotonLookup", "a photon lookup"),
+        ("V3", "a vector"),
+    ];
+    let mut out = s.to_string();
+    for (ty, words) in NAMES {
+        out = out.replace(&format!("`{ty}`"), words);
+        for kind in ["struct", "enum"] {
+            out = out.replace(&format!("{kind} {ty}"), words);
+        }
+    }
+    out
 }
 
 /// 1-based line and column of byte `offset` in `text`.

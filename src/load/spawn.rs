@@ -292,6 +292,7 @@ impl Spawner<'_> {
                     (None, Some(f)) => f.iter().map(|p| self.base_dir.join(p)).collect(),
                     (None, None) => vec![],
                 };
+                self.res.inputs.extend(paths.iter().cloned());
                 let map = if paths.is_empty() {
                     None
                 } else {
@@ -300,7 +301,21 @@ impl Spawner<'_> {
                             .map_err(|e| PrismError::scene(&ctx, e.to_string()))?,
                     ))
                 };
-                Some(Light::Environment { radiance: color(*radiance, "radiance", &ctx)? * *scale, map })
+                let radiance = color(*radiance, "radiance", &ctx)? * *scale;
+                // The brightest texel times radiance and scale must stay finite (power and sampling sum them).
+                let peak = map.as_ref().map_or(1.0, |m| {
+                    m.images.iter().flat_map(|i| &i.texels).fold(0.0f32, |a, t| a.max(t.max_element()))
+                });
+                if !(radiance * peak * 4.0 * std::f32::consts::PI).is_finite() {
+                    return Err(PrismError::scene(
+                        &ctx,
+                        format!(
+                            "environment radiance x scale ({radiance}) times the map's brightest texel ({peak}) \
+                             overflows single precision"
+                        ),
+                    ));
+                }
+                Some(Light::Environment { radiance, map })
             }
         };
         match (&light, &e.shape) {
@@ -456,6 +471,7 @@ impl Spawner<'_> {
         if let Err(e) = crate::io::open_regular(path, "mesh file") {
             return Err(PrismError::scene(ctx, e.to_string()));
         }
+        self.res.inputs.push(path.to_path_buf());
         let key = path.to_path_buf();
         let parts = if let Some(p) = self.part_cache.get(&(key.clone(), flat)) {
             // Referenced before: share the meshes and materials.
