@@ -53,11 +53,12 @@ fn face<'a>(words: impl Iterator<Item = &'a str>, counts: &[i64; 3]) -> Result<(
                 continue;
             }
             let what = ["vertex", "texture coordinate", "normal"][k];
+            let plural = ["vertices", "texture coordinates", "normals"][k];
             let idx: i64 = part.parse().map_err(|_| format!("face index `{}` is not an integer", printable(part)))?;
             let n = counts[k];
             let ok = if idx > 0 { idx <= n } else { idx < 0 && -idx <= n };
             if !ok {
-                return Err(format!("face refers to {what} {idx}, but {n} {what}s are defined above it"));
+                return Err(format!("face refers to {what} {idx}, but {n} {plural} are defined above it"));
             }
         }
     }

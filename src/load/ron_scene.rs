@@ -39,6 +39,9 @@ pub fn describe(code: &ron::Error) -> String {
         }
         ron::Error::MissingStructField { field, .. } => format!("missing field `{field}`"),
         ron::Error::DuplicateStructField { field, .. } => format!("field `{field}` given twice"),
+        ron::Error::SuggestRawIdentifier(found) => {
+            format!("expected a name here, found `{}`", crate::error::printable(found))
+        }
         ron::Error::ExceededRecursionLimit => format!(
             "nested too deeply (Prism reads at most {} levels of nested entities)",
             crate::limits::MAX_NESTING_DEPTH
