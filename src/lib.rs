@@ -22,6 +22,7 @@ pub mod cpu_time;
 pub mod envmap;
 pub mod error;
 pub mod film;
+pub mod fuzz;
 pub mod geometry;
 pub mod integrator;
 pub mod io;

@@ -16,6 +16,12 @@ pub fn read(path: &Path) -> Result<(EnvImage, usize)> {
             return Err(PrismError::format(path, "unsupported environment map format (expected .hdr or .exr)"));
         }
     };
+    from_image(img, path)
+}
+
+/// A decoded image as an environment image (`path` names it in errors): NaN and negative texels become 0,
+/// infinite texels are an error.
+pub fn from_image(img: crate::io::Image, path: &Path) -> Result<(EnvImage, usize)> {
     let (width, height, mut texels) = (img.width, img.height, img.pixels);
     if width == 0 || height == 0 || texels.len() != width as usize * height as usize {
         return Err(PrismError::format(path, format!("environment map has no pixels ({width}x{height})")));

@@ -159,6 +159,7 @@ pub fn write_png(path: &Path, img: &Image, exposure: f32) -> Result<()> {
 /// Read an EXR (linear), Radiance HDR (linear) or PNG (sRGB, converted to linear) image. Sizes claimed by a
 /// file's header are checked before anything is allocated (see `image_read.rs`).
 pub fn read_image(path: &Path) -> Result<Image> {
+    open_regular(path, "image file")?;
     let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
     match ext.as_str() {
         "exr" => read_exr_file(path),

@@ -68,10 +68,11 @@ fn face<'a>(words: impl Iterator<Item = &'a str>, counts: &[i64; 3]) -> Result<(
     Ok(())
 }
 
-/// The line of `key` in material `name` of MTL text (or of `newmtl name`, or 1).
+/// The line of `key` in material `name` of MTL text (its last occurrence, the one that counts), or of
+/// `newmtl name`, or 1.
 pub fn mtl_line(text: &str, name: &str, key: &str) -> usize {
     let mut in_material = false;
-    let mut material_line = None;
+    let (mut material_line, mut key_line) = (None, None);
     for (i, line) in text.lines().enumerate() {
         let mut words = line.split_whitespace();
         match words.next() {
@@ -81,11 +82,11 @@ pub fn mtl_line(text: &str, name: &str, key: &str) -> usize {
                     material_line = Some(i + 1);
                 }
             }
-            Some(k) if in_material && k == key => return i + 1,
+            Some(k) if in_material && k == key => key_line = Some(i + 1),
             _ => {}
         }
     }
-    material_line.unwrap_or(1)
+    key_line.or(material_line).unwrap_or(1)
 }
 
 /// `s` with control characters escaped (file content quoted in messages stays on one printable line).
