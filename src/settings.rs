@@ -8,6 +8,9 @@ use serde::de::DeserializeOwned;
 /// Largest accepted image side and pixel count (see [`crate::limits`]).
 pub use crate::limits::{MAX_IMAGE_PIXELS, MAX_IMAGE_SIDE};
 
+/// Largest exposure in stops either way (2^100 still scales an f32 radiance without overflowing to infinity).
+pub const MAX_EXPOSURE: f32 = 100.0;
+
 /// A plugin chosen by name, with its parameter text as written in the scene (`phong(max_depth: 3)`), parsed by
 /// the plugin itself so that it owns its parameter struct.
 #[derive(Clone, Debug, PartialEq)]
@@ -280,8 +283,11 @@ impl RenderSettings {
             )));
         }
         self.filter.validate().map_err(PrismError::invalid)?;
-        if !self.exposure.is_finite() {
-            return Err(PrismError::invalid("exposure must be finite"));
+        if !(self.exposure.is_finite() && self.exposure.abs() <= MAX_EXPOSURE) {
+            return Err(PrismError::invalid(format!(
+                "exposure must be between -{MAX_EXPOSURE} and {MAX_EXPOSURE} stops, got {}",
+                self.exposure
+            )));
         }
         let (k, n) = self.shard;
         if n == 0 || k >= n {

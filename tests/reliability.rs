@@ -442,6 +442,8 @@ fn negative_nan_and_infinite_mtl_values_are_errors_at_their_line() {
         ("Ke 1e39 1 1", "Ke"),
         ("Ns inf", "Ns"),
         ("Ns -3", "Ns"),
+        ("Kd 0.5", "Kd"), // tobj panicked on colours of fewer than three numbers
+        ("Ke 1 x 1", "Ke"),
     ] {
         std::fs::write(dir.join("m.mtl"), format!("# material\nnewmtl a\nKd 0.5 0.5 0.5\n{line}\n")).unwrap();
         assert_error(&["render", s(&obj), "-o", s(&out), "-q"], &["m.mtl:4:", key]);

@@ -28,6 +28,10 @@ pub struct MergeArgs {
 }
 
 pub fn run(a: MergeArgs) -> anyhow::Result<()> {
+    let max = crate::settings::MAX_EXPOSURE;
+    if !(a.exposure.is_finite() && a.exposure.abs() <= max) {
+        return Err(PrismError::invalid(format!("--exposure must be between -{max} and {max} stops")).into());
+    }
     for o in &a.output {
         let ext = o.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
         if ext != "png" && ext != "exr" && !is_film_path(o) {

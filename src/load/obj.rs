@@ -6,7 +6,7 @@
 //! surface a smooth dielectric with index Ni and transmittance Tf (1 when absent). Texture coordinates are flipped
 //! to `v = 1 - v_obj` (OBJ's v points up the image, Prism's down; Mitsuba does the same).
 
-use super::obj_check::{diagnose_obj, mtl_line};
+use super::obj_check::{diagnose_mtl, diagnose_obj, mtl_line};
 use crate::error::{PrismError, Result, SourcePos};
 use crate::material::{Material, PhongParams};
 use crate::mesh::MeshData;
@@ -55,16 +55,28 @@ pub fn parse_obj(obj: &[u8], name: &Path, mtl: impl Fn(&Path) -> Option<(PathBuf
         None => PrismError::format(name, fallback),
     };
     let libraries: RefCell<Vec<(PathBuf, String)>> = RefCell::new(Vec::new());
+    // A library tobj cannot read safely is an error at its line (not handed to tobj, which panics on it).
+    let mtl_problem: RefCell<Option<PrismError>> = RefCell::new(None);
     let opts = tobj::LoadOptions { triangulate: true, single_index: true, ignore_points: true, ignore_lines: true };
     let (models, materials) = tobj::load_obj_buf(&mut std::io::Cursor::new(obj), &opts, |p| match mtl(p) {
         Some((path, bytes)) => {
+            let text = String::from_utf8_lossy(&bytes).into_owned();
+            if let Some((line, message)) = diagnose_mtl(&text) {
+                mtl_problem
+                    .borrow_mut()
+                    .get_or_insert(PrismError::Parse { pos: SourcePos { file: path, line, col: 1 }, message });
+                return Err(tobj::LoadError::MaterialParseError);
+            }
             let r = tobj::load_mtl_buf(&mut std::io::Cursor::new(&bytes));
-            libraries.borrow_mut().push((path, String::from_utf8_lossy(&bytes).into_owned()));
+            libraries.borrow_mut().push((path, text));
             r
         }
         None => Err(tobj::LoadError::OpenFileFailed),
     })
     .map_err(|e| diagnose(format!("cannot read OBJ: {e}")))?;
+    if let Some(e) = mtl_problem.into_inner() {
+        return Err(e);
+    }
     let materials = match materials {
         Ok(m) => m,
         Err(e) => {

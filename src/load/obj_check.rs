@@ -68,6 +68,24 @@ fn face<'a>(words: impl Iterator<Item = &'a str>, counts: &[i64; 3]) -> Result<(
     Ok(())
 }
 
+/// The first line of MTL text that Prism rejects before handing it to tobj: colours `Ka`, `Kd`, `Ks`, `Ke` need
+/// three numbers (tobj 4.0.5 panics on fewer).
+pub fn diagnose_mtl(text: &str) -> Option<(usize, String)> {
+    for (i, line) in text.lines().enumerate() {
+        let mut words = line.split_whitespace();
+        if let Some(key @ ("Ka" | "Kd" | "Ks" | "Ke")) = words.next() {
+            let values: Vec<&str> = words.take(3).collect();
+            if values.len() < 3 || values.iter().any(|w| w.parse::<f32>().is_err()) {
+                return Some((
+                    i + 1,
+                    format!("colour `{key}` needs three numbers, found `{}`", printable(&values.join(" "))),
+                ));
+            }
+        }
+    }
+    None
+}
+
 /// The line of `key` in material `name` of MTL text (its last occurrence, the one that counts), or of
 /// `newmtl name`, or 1.
 pub fn mtl_line(text: &str, name: &str, key: &str) -> usize {

@@ -96,7 +96,8 @@ fn option_cases(v: &mut Vec<Case>, scene: &Path, out: &Path) {
             Expect::Ok,
         ),
         ("a valid shard", vec!["--spp", "4", "--shard", "1/2"], Expect::Ok),
-        ("one thread", vec!["--threads", "1024", "--spp", "1"], Expect::Ok),
+        ("1024 threads", vec!["--threads", "1024", "--spp", "1"], Expect::Ok),
+        ("a newline between name and parameters", vec!["--integrator", "phong\n(max_depth: 1)"], Expect::Ok),
     ] {
         v.push(args_case("command line", name.into(), base(&extra), expect));
     }

@@ -11,7 +11,7 @@ fn uses(d: &Path, image: &Path, tag: &str, expect: Expect) -> Vec<Case> {
     std::fs::write(
         &env,
         format!(
-            "(camera: (size: (8, 8)), entities: [(light: Environment(map: {:?})), (shape: Sphere())])",
+            "(camera: (size: (8, 8)), entities: [(light: Environment(map: {:?}, layout: Equirect)), (shape: Sphere())])",
             path_str(image)
         ),
     )

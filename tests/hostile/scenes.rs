@@ -183,7 +183,7 @@ fn ron_cases(v: &mut Vec<Case>) {
         ("size -1", "(camera: (size: (-1, 8)))".into(), Expect::Error),
         ("size 2^32", "(camera: (size: (4294967296, 8)))".into(), Expect::Error),
         ("spp 0", "(camera: (size: (8, 8)), render: (spp: 0))".into(), Expect::Error),
-        ("passes above spp", "(camera: (size: (8, 8)), render: (spp: 2, passes: 3))".into(), Expect::Error),
+        ("passes above spp (clamped to spp)", "(camera: (size: (8, 8)), render: (spp: 2, passes: 3))".into(), Expect::Ok),
         ("grid 0", "(camera: (size: (8, 8)), render: (grid: (0, 1, 1)))".into(), Expect::Error),
         ("grid 10^4 cubed", "(camera: (size: (8, 8)), render: (grid: (10000, 10000, 10000)))".into(), Expect::Error),
         ("integrator number", "(camera: (size: (8, 8)), render: (integrator: 5))".into(), Expect::Error),
