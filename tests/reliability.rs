@@ -543,6 +543,8 @@ fn obj_errors_name_the_file_and_line() {
         ("neg.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf -1 -2 -4\n", "neg.obj:4:", "vertex -4"),
         ("word.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 x\n", "word.obj:4:", "`x`"),
         ("vn.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1//1 2//2 3//1\n", "vn.obj:5:", "normal 2"),
+        // Found by fuzzing: tobj overflowed on a relative texture index beyond those defined.
+        ("negvt.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/-6 2/1 3/1\n", "negvt.obj:5:", "texture coordinate -6"),
     ];
     for (name, text, at, what) in cases {
         let f = file(&dir, name, text);

@@ -49,7 +49,12 @@ pub fn parse_obj(obj: &[u8], name: &Path, mtl: impl Fn(&Path) -> Option<(PathBuf
         message,
     };
     let text = String::from_utf8_lossy(obj);
-    // Where tobj fails, or returns values Prism rejects, the first offending line is named.
+    // Every line is checked before tobj sees it: tobj 4.0.5 overflows on huge face indices (and would index with
+    // the wrapped value in release builds), and its errors name no line.
+    if let Some((line, message)) = diagnose_obj(&text) {
+        return Err(at(line, message));
+    }
+    // Where tobj fails anyway, or returns values Prism rejects, the first offending line is named if there is one.
     let diagnose = |fallback: String| match diagnose_obj(&text) {
         Some((line, message)) => at(line, message),
         None => PrismError::format(name, fallback),

@@ -12,7 +12,7 @@ pub fn diagnose_obj(text: &str) -> Option<(usize, String)> {
         let mut words = line.split_whitespace();
         let problem = match words.next() {
             Some("v") => numbers(words, 3, "vertex position `v`").map(|()| counts[0] += 1).err(),
-            Some("vt") => numbers(words, 1, "texture coordinate `vt`").map(|()| counts[1] += 1).err(),
+            Some("vt") => numbers(words, 2, "texture coordinate `vt`").map(|()| counts[1] += 1).err(),
             Some("vn") => numbers(words, 3, "normal `vn`").map(|()| counts[2] += 1).err(),
             Some("f") => face(words, &counts).err(),
             _ => None,
