@@ -46,8 +46,9 @@ impl CameraRig {
         let eye = world_from_local.transform_point3a(cam.eye.into());
         let target = world_from_local.transform_point3a(cam.target.into());
         let up_w = world_from_local.transform_vector3a(cam.up.into());
-        let forward = (target - eye).try_normalize()?;
-        let right = forward.cross(up_w).try_normalize()?;
+        let forward: Vec3A = crate::math::unit_vector((target - eye).into())?.into();
+        let right: Vec3A =
+            crate::math::unit_vector(forward.cross(crate::math::unit_vector(up_w.into())?.into()).into())?.into();
         let up = right.cross(forward);
         let right = if cam.mirror { -right } else { right };
         let [x0, y0, x1, y1] = cam.crop.unwrap_or([0.0, 0.0, 1.0, 1.0]);

@@ -386,6 +386,10 @@ impl Primitives {
                 Shape::Sphere { center, radius } => {
                     sphere = Some(prims.spheres.len() as u32);
                     prims.spheres.push(make_sphere(&m, (*center).into(), *radius, material, light_slot));
+                    let b = prims.prim_bounds(prims.num_bounded() - 1);
+                    if !within_limits(b.min) || !within_limits(b.max) {
+                        return Err(beyond_limits(name(), "sphere", b.min.abs().max(b.max.abs())));
+                    }
                 }
                 Shape::Plane { normal, offset } => {
                     if emits {
@@ -400,10 +404,16 @@ impl Primitives {
                     let inv_t = m.matrix3.inverse().transpose();
                     let n_world = (inv_t * n_local).normalize();
                     let off = n_world.dot(m.transform_point3a(p0));
+                    if !(n_world.is_finite() && off.is_finite() && off.abs() <= crate::limits::MAX_COORDINATE) {
+                        return Err(beyond_limits(name(), "plane", Vec3A::splat(off.abs())));
+                    }
                     prims.planes.push(PlaneGeom { normal: n_world, offset: off, material });
                 }
                 Shape::Triangle { p, n, uv } => {
                     let v = p.map(|q| m.transform_point3a(q.into()));
+                    if let Some(far) = v.iter().find(|q| !within_limits(**q)) {
+                        return Err(beyond_limits(name(), "triangle", far.abs()));
+                    }
                     if !is_valid_triangle(&v) {
                         return Err(PrismError::scene(name(), "triangle has zero area (or non-finite vertices)"));
                     }
@@ -433,6 +443,9 @@ impl Primitives {
                     let det_sign = m.matrix3.determinant().signum();
                     for (f, idx) in mesh.indices.iter().enumerate() {
                         let v = idx.map(|i| world_pos[i as usize]);
+                        if let Some(far) = v.iter().find(|q| !within_limits(**q)) {
+                            return Err(beyond_limits(name(), &format!("mesh '{}'", mesh.name), far.abs()));
+                        }
                         if !is_valid_triangle(&v) {
                             prims.skipped_degenerate += 1;
                             continue;
@@ -488,6 +501,23 @@ impl Primitives {
         prims.bounds = (0..prims.num_bounded()).fold(Bounds::EMPTY, |b, i| b.union(prims.prim_bounds(i)));
         Ok((prims, emitters))
     }
+}
+
+/// True when every coordinate of `p` is finite and within [`crate::limits::MAX_COORDINATE`].
+fn within_limits(p: Vec3A) -> bool {
+    p.is_finite() && p.abs().max_element() <= crate::limits::MAX_COORDINATE
+}
+
+/// The error for a shape that reaches `extent` (per-axis magnitude) in world space, beyond the coordinate limit.
+fn beyond_limits(entity: String, what: &str, extent: Vec3A) -> PrismError {
+    PrismError::scene(
+        entity,
+        format!(
+            "{what} reaches {:e} in world space, beyond Prism's coordinate limit of {:e} (or is not finite)",
+            extent.max_element(),
+            crate::limits::MAX_COORDINATE
+        ),
+    )
 }
 
 fn is_valid_triangle(v: &[Vec3A; 3]) -> bool {

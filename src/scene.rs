@@ -12,6 +12,8 @@ use crate::material::Material;
 use crate::primitives::{Hit, NO_LIGHT, Primitives, SurfaceHit};
 use crate::texture::TextureSet;
 use glam::{Vec3, Vec3A};
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 pub struct Scene {
     pub camera: CameraRig,
@@ -21,9 +23,18 @@ pub struct Scene {
     pub materials: Vec<Material>,
     pub textures: TextureSet,
     pub globals: SceneGlobals,
+    /// Set when the render is cancelled (Ctrl-C): estimators whose work per sample can be huge (Whitted-style
+    /// branching) check it and return early; the sample is then discarded.
+    pub cancel: Arc<AtomicBool>,
 }
 
 impl Scene {
+    /// True once the render has been cancelled.
+    #[inline]
+    pub fn cancelled(&self) -> bool {
+        self.cancel.load(Ordering::Relaxed)
+    }
+
     /// Closest hit along the ray (accelerator for bounded primitives, then the unbounded planes); hits on the
     /// holes of alpha-masked triangles are skipped (see [`crate::alpha`]).
     #[inline]

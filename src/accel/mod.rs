@@ -15,6 +15,7 @@
 
 mod brute;
 mod bvh;
+mod bvh_fallback;
 mod clip;
 pub mod grid;
 pub mod kdtree;

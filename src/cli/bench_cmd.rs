@@ -115,7 +115,11 @@ fn interleaved_best(accels: &[Accel], prims: &Primitives, sets: [&[Ray]; 3], min
     let mut best = vec![[Duration::MAX; 3]; accels.len()];
     let mut spent = vec![[Duration::ZERO; 3]; accels.len()];
     let mut rounds = 0;
-    while rounds < 3 || spent.iter().flatten().any(|&t| t < min) {
+    // Empty ray sets (a camera that sees nothing has no bounce or shadow rays) are never timed, so they must not
+    // keep the loop going.
+    let wanting =
+        |spent: &[[Duration; 3]]| spent.iter().any(|s| (0..3).any(|set| !sets[set].is_empty() && s[set] < min));
+    while rounds < 3 || wanting(&spent) {
         for (a, accel) in accels.iter().enumerate() {
             for set in 0..3 {
                 if sets[set].is_empty() || (rounds >= 3 && spent[a][set] >= min) {
@@ -141,18 +145,32 @@ fn interleaved_best(accels: &[Accel], prims: &Primitives, sets: [&[Ray]; 3], min
 }
 
 pub fn run(args: BenchArgs) -> anyhow::Result<()> {
-    if args.threads == 0 || args.size == 0 {
-        return Err(PrismError::invalid("--threads and --size must be at least 1").into());
+    crate::limits::threads(args.threads)?;
+    if args.size == 0 || args.size > crate::limits::MAX_BENCH_SIZE {
+        return Err(PrismError::invalid(format!(
+            "--size must be between 1 and {}, got {}",
+            crate::limits::MAX_BENCH_SIZE,
+            args.size
+        ))
+        .into());
     }
-    if !(args.seconds.is_finite() && args.seconds > 0.0) {
+    let min = crate::limits::seconds(args.seconds, "--seconds")?;
+    if min.is_zero() {
         return Err(PrismError::invalid("--seconds must be positive").into());
     }
     let kinds = parse_kinds(&args.accel, args.grid.as_deref())?;
+    // Outputs are checked before the (long) measurements: the chart's directory is writable and no output is a scene.
+    if let Some(chart) = &args.chart {
+        crate::io::check_outputs(std::slice::from_ref(chart), &args.scenes)?;
+    }
+    if let Some(dir) = &args.export_rays {
+        std::fs::create_dir_all(dir).map_err(|e| PrismError::io(dir, e))?;
+        crate::io::check_writable_dir(&dir.join("rays.prism-rays"))?;
+    }
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(args.threads)
         .build()
         .map_err(|e| PrismError::invalid(format!("cannot start {} threads: {e}", args.threads)))?;
-    let min = Duration::from_secs_f64(args.seconds);
     let mut rows = Vec::new();
     for path in &args.scenes {
         let mut app = App::with_default_plugins();
@@ -173,6 +191,7 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
             materials: vec![],
             textures: Default::default(),
             globals: scene.globals,
+            cancel: Default::default(),
         };
         let (bounce, shadow) = secondary_rays(&scene_for_rays, &camera, 1);
         if let Some(dir) = &args.export_rays {
@@ -225,7 +244,7 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
             });
         }
     }
-    println!("{}", table(&rows, args.threads, args.size));
+    super::print_stdout(&format!("{}\n", table(&rows, args.threads, args.size)))?;
     if let Some(chart) = &args.chart {
         chart_of(&rows, args.threads).write_svg(chart)?;
         eprintln!("wrote {}", chart.display());

@@ -29,20 +29,24 @@ pub fn run(args: ConvertArgs) -> anyhow::Result<()> {
     if ext(&args.output) != "ron" {
         return Err(PrismError::invalid(format!("{}: the output must be a .ron file", args.output.display())).into());
     }
+    crate::io::check_outputs(std::slice::from_ref(&args.output), std::slice::from_ref(&args.input))?;
     let out_dir = match args.output.parent() {
         Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
         _ => PathBuf::from("."),
     };
-    let text = if input_ext == "pbrt" {
-        let c = pbrt::convert_file(&args.input, &out_dir)?;
-        for w in &c.warnings {
-            eprintln!("warning: {w}");
-        }
-        c.ron
-    } else {
-        mit6837::convert_file(&args.input, &out_dir)?.ron
-    };
-    parse_scene(&text, &args.output)?;
+    let text = crate::load::with_loader_stack(|| {
+        let text = if input_ext == "pbrt" {
+            let c = pbrt::convert_file(&args.input, &out_dir)?;
+            for w in &c.warnings {
+                eprintln!("warning: {w}");
+            }
+            c.ron
+        } else {
+            mit6837::convert_file(&args.input, &out_dir)?.ron
+        };
+        parse_scene(&text, &args.output)?;
+        Ok(text)
+    })?;
     std::fs::write(&args.output, text).map_err(|e| PrismError::io(&args.output, e))?;
     Ok(())
 }

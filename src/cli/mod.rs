@@ -46,6 +46,18 @@ pub enum Command {
     },
 }
 
+/// Write `text` to stdout. A closed stdout (`prism compare a b | head -1`) ends the output quietly: broken pipes
+/// are not errors, and nothing panics; other write errors are reported.
+pub(crate) fn print_stdout(text: &str) -> anyhow::Result<()> {
+    use std::io::Write;
+    let mut out = std::io::stdout().lock();
+    match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
+        Ok(()) => Ok(()),
+        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
+        Err(e) => Err(crate::error::PrismError::io("standard output", e).into()),
+    }
+}
+
 /// Run a parsed command line. Errors are returned for `main` to print as one line.
 pub fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {

@@ -206,7 +206,7 @@ pub fn run(args: RaytracerArgs) -> anyhow::Result<()> {
         render(base(out.clone(), integrator))?;
     }
     if let Some((near, far, out)) = &o.depth {
-        let back = mit6837::convert_file(&input, Path::new("."))?.eye_back;
+        let back = crate::load::with_loader_stack(|| mit6837::convert_file(&input, Path::new(".")))?.eye_back;
         let (near, far, raw) = (near + back, far + back, is_tga(out));
         render(base(out.clone(), format!("debug(mode: depth, near: {near:?}, far: {far:?}, raw: {raw})")))?;
     }

@@ -11,7 +11,7 @@ use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, OnceLock};
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 #[derive(Args, Debug, Clone)]
 pub struct RenderArgs {
@@ -141,7 +141,7 @@ pub(super) fn parse_size(s: &str) -> Result<(u32, u32), String> {
 }
 
 /// The process-wide cancel flag, set by Ctrl-C.
-fn cancel_flag() -> Arc<AtomicBool> {
+pub(super) fn cancel_flag() -> Arc<AtomicBool> {
     static FLAG: OnceLock<Arc<AtomicBool>> = OnceLock::new();
     FLAG.get_or_init(|| {
         let flag = Arc::new(AtomicBool::new(false));
@@ -158,14 +158,10 @@ fn cancel_flag() -> Arc<AtomicBool> {
 }
 
 pub fn run(args: RenderArgs) -> anyhow::Result<()> {
-    if let Some(t) = args.threads
-        && t == 0
-    {
-        return Err(PrismError::invalid("--threads must be at least 1").into());
+    if let Some(t) = args.threads {
+        crate::limits::threads(t)?;
     }
-    if !(args.checkpoint.is_finite() && args.checkpoint >= 0.0) {
-        return Err(PrismError::invalid("--checkpoint must be a non-negative number of seconds").into());
-    }
+    let checkpoint = crate::limits::seconds(args.checkpoint, "--checkpoint")?;
     let outputs = if args.output.is_empty() {
         let stem = args.scene.file_stem().map(|s| s.to_string_lossy().to_string()).unwrap_or_else(|| "out".into());
         vec![PathBuf::from(format!("{stem}.png"))]
@@ -209,7 +205,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
         .find(|o| crate::io::is_film_path(o))
         .cloned()
         .or_else(|| outputs.first().map(|o| o.with_extension("prism-film")));
-    r.checkpoint_every = (args.checkpoint > 0.0).then(|| Duration::from_secs_f64(args.checkpoint));
+    r.checkpoint_every = (!checkpoint.is_zero()).then_some(checkpoint);
     r.cancel = cancel_flag();
     r.show_progress = !args.quiet && std::io::stderr().is_terminal();
     let mut builder = rayon::ThreadPoolBuilder::new();

@@ -148,12 +148,16 @@ impl LightSet {
     /// Collect the lights of the world. `emitters` are the entities with area lights, in slot order.
     pub fn build(world: &hecs::World, prims: &Primitives, emitters: &[(hecs::Entity, EntityPrims)]) -> Result<Self> {
         let mut lights = Vec::new();
+        // The entity of each light (and of the environment), for errors.
+        let mut owners = Vec::new();
+        let mut env_owner = None;
         for (entity, ep) in emitters {
             let Ok(light) = world.get::<&Light>(*entity) else {
                 continue;
             };
             if let Light::Area { radiance, two_sided, texture } = &*light {
                 lights.push(LightSource::Area(AreaLight::new(prims, ep, *radiance, *two_sided, texture.clone())));
+                owners.push(*entity);
             }
         }
         let mut environment = None;
@@ -163,6 +167,9 @@ impl LightSet {
         for (entity, light, wfl) in others {
             let m = wfl.map(|w| w.0).unwrap_or_default();
             let label = || crate::load::entity_label(world, entity);
+            if !matches!(light, Light::Environment { .. } | Light::Area { .. }) {
+                owners.push(entity);
+            }
             match light {
                 Light::Point { intensity, position, attenuation } => lights.push(LightSource::Point(PointLight {
                     position: m.transform_point3a((*position).into()),
@@ -188,6 +195,7 @@ impl LightSet {
                         return Err(PrismError::scene(label(), "a scene can have only one environment light"));
                     }
                     environment = Some(EnvironmentLight::new(*radiance, map.clone(), &m));
+                    env_owner = Some(entity);
                 }
                 Light::Directional { irradiance, direction } => {
                     let d = m.transform_vector3a((*direction).into());
@@ -199,7 +207,20 @@ impl LightSet {
                 Light::Area { .. } => {}
             }
         }
-        Ok(LightSet { lights, environment, sphere: SceneSphere::from_bounds(&prims.bounds) })
+        let set = LightSet { lights, environment, sphere: SceneSphere::from_bounds(&prims.bounds) };
+        // Light choice by power and photon flux need finite powers: radiance 3e38 on a unit quad, or an environment
+        // scale of 3e38, overflows single precision.
+        for (i, owner) in owners.iter().copied().chain(env_owner).enumerate() {
+            let i = if i < set.lights.len() { i } else { set.lights.len() };
+            let p = set.power(i, prims);
+            if !p.is_finite() {
+                return Err(PrismError::scene(
+                    crate::load::entity_label(world, owner),
+                    format!("the light's power overflows ({p}): its radiance, intensity or scale is too large"),
+                ));
+            }
+        }
+        Ok(set)
     }
 
     /// Number of lights other than the environment.

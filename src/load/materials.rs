@@ -38,6 +38,7 @@ pub(super) fn load_textures(
                     return Err(PrismError::scene(&ctx, "uv_scale and uv_offset must be finite"));
                 }
                 let full = base_dir.join(path);
+                res.inputs.push(full.clone());
                 let key = (full.clone(), *raw);
                 let image = match images.get(&key) {
                     Some(i) => i.clone(),

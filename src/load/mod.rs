@@ -1,6 +1,7 @@
 //! The Load stage: read the scene (RON, a bare OBJ mesh, or a 6.837 `.txt` scene), spawn its entities, and resolve
 //! the render settings from the file and the command-line overrides.
 
+mod deep_stack;
 pub mod desc;
 pub mod gltf;
 mod inline_mesh;
@@ -8,13 +9,15 @@ mod material_desc;
 mod materials;
 pub mod mit6837;
 mod obj;
+mod obj_check;
 pub mod pbrt;
 pub mod ply;
 mod ron_scene;
 mod spawn;
 mod transform;
 
-pub use obj::{ObjPart, load_obj};
+pub use deep_stack::{LOADER_STACK_BYTES, RON_RECURSION_LIMIT, with_loader_stack};
+pub use obj::{ObjPart, load_obj, parse_obj};
 pub use ron_scene::{describe as describe_ron_error, line_col, parse_scene, plugin_config};
 pub use spawn::{FileSettings, camera_component, spawn_scene};
 pub use transform::{check_affine, compose};
@@ -40,21 +43,30 @@ pub fn entity_label(world: &World, e: hecs::Entity) -> String {
 pub fn load_scene_system(world: &mut World, res: &mut Resources) -> Result<()> {
     res.scene_hash = match &res.source {
         SceneSource::Prebuilt => 0,
-        SceneSource::File(path) => std::fs::read(path).map(|b| hash_bytes(&b)).unwrap_or(0),
+        SceneSource::File(path) => hash_bytes(&crate::io::read_regular(path, "scene file")?),
         SceneSource::RonText { text, .. } => hash_bytes(text.as_bytes()),
     };
-    let file_settings = match res.source.clone() {
-        SceneSource::Prebuilt => FileSettings::default(),
-        SceneSource::File(path) => load_file(&path, world, res)?,
+    // Parsing and spawning recurse once per nesting level: on a stack sized for the deepest nesting accepted.
+    let file_settings = with_loader_stack(|| match res.source.clone() {
+        SceneSource::Prebuilt => Ok(FileSettings::default()),
+        SceneSource::File(path) => load_file(&path, world, res),
         SceneSource::RonText { text, name, base_dir } => {
             let desc = parse_scene(&text, &name)?;
-            spawn_scene(&desc, &text, &name, &base_dir, world, res)?
+            spawn_scene(&desc, &text, &name, &base_dir, world, res)
         }
-    };
+    })?;
     if res.materials.is_empty() {
         res.materials.push(Material::default());
     }
     resolve_settings(world, res, file_settings)
+}
+
+/// Load-stage system, after the scene is loaded: every output (images, the film checkpoints write) can be written
+/// and overwrites none of the scene's inputs, before any rendering starts.
+pub fn check_outputs_system(_world: &mut World, res: &mut Resources) -> Result<()> {
+    let mut outputs = res.outputs.clone();
+    outputs.extend(res.film_path.iter().cloned());
+    crate::io::check_outputs(&outputs, &res.inputs)
 }
 
 /// FNV-1a 64 of a scene file (part of a film's fingerprint).
@@ -63,10 +75,11 @@ fn hash_bytes(b: &[u8]) -> u64 {
 }
 
 fn load_file(path: &Path, world: &mut World, res: &mut Resources) -> Result<FileSettings> {
+    res.inputs.push(path.to_path_buf());
     let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
     match ext.as_str() {
         "ron" => {
-            let text = std::fs::read_to_string(path).map_err(|e| PrismError::io(path, e))?;
+            let text = crate::io::read_regular_text(path, "scene file")?;
             let base = path.parent().unwrap_or(Path::new("."));
             let desc = parse_scene(&text, path)?;
             spawn_scene(&desc, &text, path, base, world, res)
@@ -121,9 +134,7 @@ fn load_ply_scene(path: &Path, world: &mut World, res: &mut Resources) -> Result
 /// A bare OBJ file as a scene: the mesh with its MTL materials, a camera framing it from +z, and a headlight
 /// (a directional light along the view, irradiance pi, so an albedo-a surface facing the camera shows radiance a).
 fn load_obj_scene(path: &Path, world: &mut World, res: &mut Resources) -> Result<FileSettings> {
-    if !path.is_file() {
-        return Err(PrismError::io(path, std::io::Error::new(std::io::ErrorKind::NotFound, "scene file not found")));
-    }
+    crate::io::open_regular(path, "scene file")?;
     res.materials.push(Material::default());
     let parts = load_obj(path)?;
     let mut lo = Vec3::splat(f32::INFINITY);

@@ -149,8 +149,15 @@ pub fn camera_component(c: &CameraDesc, ctx: &str) -> Result<Camera> {
             return Err(PrismError::scene(ctx, format!("fov must be between 0 and 180 degrees, got {}", c.fov)));
         }
     };
+    if eye.abs().max(target.abs()).max_element() > crate::limits::MAX_COORDINATE {
+        return Err(PrismError::scene(
+            ctx,
+            format!("eye and target must lie within Prism's coordinate limit of {:e}", crate::limits::MAX_COORDINATE),
+        ));
+    }
     let fwd = target - eye;
-    if fwd.length_squared() == 0.0 || fwd.cross(up).length_squared() == 0.0 {
+    let (fwd_unit, up_unit) = (crate::math::unit_vector(fwd), crate::math::unit_vector(up));
+    if fwd_unit.zip(up_unit).is_none_or(|(f, u)| f.cross(u).length_squared() < 1e-12) {
         return Err(PrismError::scene(
             ctx,
             "eye, target and up do not define a view (eye == target or up parallel to the view)",
@@ -274,12 +281,12 @@ impl Spawner<'_> {
                     (None, Some(t)) => point(*t, "target", &ctx)? - position,
                     (None, None) => Vec3::NEG_Y,
                 };
-                if direction == Vec3::ZERO {
+                let Some(direction) = crate::math::unit_vector(direction) else {
                     return Err(PrismError::scene(
                         &ctx,
                         "spot light direction is the zero vector (target == position)",
                     ));
-                }
+                };
                 if !(cone_angle.is_finite() && *cone_angle > 0.0 && *cone_angle <= 180.0) {
                     return Err(PrismError::scene(
                         &ctx,
@@ -302,10 +309,9 @@ impl Spawner<'_> {
                 })
             }
             Some(LightDesc::Directional { irradiance, direction }) => {
-                let d = point(*direction, "direction", &ctx)?;
-                if d == Vec3::ZERO {
+                let Some(d) = crate::math::unit_vector(point(*direction, "direction", &ctx)?) else {
                     return Err(PrismError::scene(&ctx, "directional light direction is the zero vector"));
-                }
+                };
                 Some(Light::Directional { irradiance: color(*irradiance, "irradiance", &ctx)?, direction: d })
             }
             Some(LightDesc::Area { radiance, two_sided, texture }) => {
@@ -327,6 +333,7 @@ impl Spawner<'_> {
                     (None, Some(f)) => f.iter().map(|p| self.base_dir.join(p)).collect(),
                     (None, None) => vec![],
                 };
+                self.res.inputs.extend(paths.iter().cloned());
                 let map = if paths.is_empty() {
                     None
                 } else {
@@ -335,7 +342,21 @@ impl Spawner<'_> {
                             .map_err(|e| PrismError::scene(&ctx, e.to_string()))?,
                     ))
                 };
-                Some(Light::Environment { radiance: color(*radiance, "radiance", &ctx)? * *scale, map })
+                let radiance = color(*radiance, "radiance", &ctx)? * *scale;
+                // The brightest texel times radiance and scale must stay finite (power and sampling sum them).
+                let peak = map.as_ref().map_or(1.0, |m| {
+                    m.images.iter().flat_map(|i| &i.texels).fold(0.0f32, |a, t| a.max(t.max_element()))
+                });
+                if !(radiance * peak * 4.0 * std::f32::consts::PI).is_finite() {
+                    return Err(PrismError::scene(
+                        &ctx,
+                        format!(
+                            "environment radiance x scale ({radiance}) times the map's brightest texel ({peak}) \
+                             overflows single precision"
+                        ),
+                    ));
+                }
+                Some(Light::Environment { radiance, map })
             }
         };
         match (&light, &e.shape) {
@@ -409,7 +430,7 @@ impl Spawner<'_> {
             world.spawn(cb.build());
         }
         for (i, c) in e.children.iter().enumerate() {
-            self.spawn_entity(world, c, Some(entity), material_name, &format!("{path}.children[{i}]"))?;
+            self.spawn_entity(world, c, Some(entity), material_name, &child_path(path, i))?;
         }
         Ok(())
     }
@@ -427,8 +448,21 @@ impl Spawner<'_> {
                 if n == Vec3::ZERO || !offset.is_finite() {
                     return Err(PrismError::scene(ctx, "plane needs a non-zero normal and a finite offset"));
                 }
-                let len = n.length();
-                Shape::Plane { normal: n / len, offset: offset / len }
+                // In f64: the squared length of a tiny normal (1e-30) would underflow in f32.
+                let n64 = n.as_dvec3();
+                let len = n64.length();
+                let d = *offset as f64 / len;
+                if d.abs() > crate::limits::MAX_COORDINATE as f64 {
+                    return Err(PrismError::scene(
+                        ctx,
+                        format!(
+                            "plane `normal . x = offset` lies {d:e} from the origin, beyond Prism's coordinate limit \
+                             of {:e}",
+                            crate::limits::MAX_COORDINATE
+                        ),
+                    ));
+                }
+                Shape::Plane { normal: (n64 / len).as_vec3(), offset: d as f32 }
             }
             ShapeDesc::Triangle { vertices, normals, uvs } => {
                 let p = [
@@ -443,8 +477,7 @@ impl Spawner<'_> {
                     .map(|ns| -> Result<[Vec3; 3]> {
                         let mut out = [Vec3::ZERO; 3];
                         for (o, v) in out.iter_mut().zip(ns) {
-                            *o = point(v, "normal", ctx)?
-                                .try_normalize()
+                            *o = crate::math::unit_vector(point(v, "normal", ctx)?)
                                 .ok_or_else(|| PrismError::scene(ctx, "triangle normal is zero"))?;
                         }
                         Ok(out)
@@ -493,9 +526,10 @@ impl Spawner<'_> {
                 format!("mesh '{}': unsupported format (expected .obj or .ply)", path.display()),
             ));
         }
-        if !path.is_file() {
-            return Err(PrismError::scene(ctx, format!("mesh file not found: {}", path.display())));
+        if let Err(e) = crate::io::open_regular(path, "mesh file") {
+            return Err(PrismError::scene(ctx, e.to_string()));
         }
+        self.res.inputs.push(path.to_path_buf());
         let key = path.to_path_buf();
         if ext == "ply" {
             // One mesh, no materials: loaded once per (file, flat, reverse) and shared by every entity using it.
@@ -546,6 +580,22 @@ impl Spawner<'_> {
         }
         Ok(ShapeOut::Parts(parts))
     }
+}
+
+/// The label of an unnamed child: `entities[0].children[2]`; deep paths keep their start and the nesting level
+/// (`entities[0].children[0]....children[2] (level 5000)`) so labels stay short at any depth.
+fn child_path(path: &str, i: usize) -> String {
+    const KEEP: usize = 120;
+    let level = match path.rfind(" (level ") {
+        Some(at) => path[at + 8..].trim_end_matches(')').parse::<usize>().unwrap_or(0) + 1,
+        None => path.matches(".children[").count() + 1,
+    };
+    if path.len() < KEEP {
+        return format!("{path}.children[{i}]");
+    }
+    let head: String = path.chars().take(KEEP / 2).collect();
+    let head = head.rsplit_once(".children[").map_or(head.as_str(), |(h, _)| h).to_string();
+    format!("{head}....children[{i}] (level {level})")
 }
 
 #[derive(Clone)]

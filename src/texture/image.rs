@@ -75,12 +75,7 @@ impl TexImage {
 
     /// Read an image file. `raw`: keep 8/16-bit values as stored (data maps); otherwise decode them from sRGB.
     pub fn load(path: &Path, raw: bool) -> Result<Self> {
-        if !path.is_file() {
-            return Err(PrismError::io(
-                path,
-                std::io::Error::new(std::io::ErrorKind::NotFound, "texture file not found"),
-            ));
-        }
+        crate::io::open_regular(path, "texture file")?;
         let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
         let img = if ext == "exr" {
             let im = crate::io::read_exr(path)?;

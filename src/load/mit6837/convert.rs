@@ -92,7 +92,8 @@ impl Writer<'_> {
     }
 
     fn object(&mut self, o: &ObjectTxt, m: &Affine3A, indent: usize) -> Result<()> {
-        let pad = " ".repeat(indent);
+        // Indentation stops growing after 16 levels: deep nesting must not make the text quadratic in size.
+        let pad = " ".repeat(indent.min(64));
         match o {
             ObjectTxt::Group { line, children } => {
                 let _ = writeln!(self.out, "{pad}(name: {:?}, children: [", self.label("Group", *line));

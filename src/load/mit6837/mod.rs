@@ -17,12 +17,12 @@ pub use convert::{Converted, DEFAULT_SIZE, relative_path, to_ron};
 pub use lexer::{Token, tokenize};
 pub use parser::parse_txt;
 
-use crate::error::{PrismError, Result};
+use crate::error::Result;
 use std::path::Path;
 
 /// Parse a 6.837 scene file.
 pub fn parse_file(path: &Path) -> Result<SceneTxt> {
-    let text = std::fs::read_to_string(path).map_err(|e| PrismError::io(path, e))?;
+    let text = crate::io::read_regular_text(path, "scene file")?;
     parse_txt(&text, path, path.parent().unwrap_or(Path::new(".")))
 }
 

@@ -7,6 +7,7 @@
 use super::ast::{CameraTxt, LightTxt, MaterialTxt, ObjectTxt, OpTxt, PhongTxt, SceneTxt};
 use super::lexer::{Token, tokenize};
 use crate::error::{PrismError, Result, SourcePos};
+use crate::limits::MAX_NESTING_DEPTH;
 use glam::Vec3;
 use std::path::{Path, PathBuf};
 
@@ -18,6 +19,8 @@ pub(super) struct Parser<'a> {
     /// The material of the objects read from now on (`MaterialIndex`).
     current_material: Option<usize>,
     num_materials: Option<usize>,
+    /// `Group`/`Transform` blocks open around the current token (at most [`MAX_NESTING_DEPTH`]).
+    depth: usize,
 }
 
 /// Parse 6.837 scene text. `file` names it in errors; mesh paths resolve against `base_dir`.
@@ -29,6 +32,7 @@ pub fn parse_txt(text: &str, file: &Path, base_dir: &Path) -> Result<SceneTxt> {
         base_dir: base_dir.to_path_buf(),
         current_material: None,
         num_materials: None,
+        depth: 0,
     };
     p.scene()
 }
@@ -396,8 +400,19 @@ impl Parser<'_> {
     fn object(&mut self, t: &Token) -> Result<ObjectTxt> {
         let line = t.line;
         Ok(match t.text.as_str() {
-            "Group" => self.group(line)?,
-            "Transform" => self.transform(line)?,
+            "Group" | "Transform" => {
+                if self.depth >= MAX_NESTING_DEPTH {
+                    return Err(self.error_at(
+                        t.line,
+                        t.col,
+                        format!("Group and Transform blocks nested deeper than {MAX_NESTING_DEPTH} levels"),
+                    ));
+                }
+                self.depth += 1;
+                let o = if t.text == "Group" { self.group(line) } else { self.transform(line) };
+                self.depth -= 1;
+                o?
+            }
             "Sphere" => {
                 self.expect("{", "after Sphere")?;
                 let center = self.keyed_vec3("center", "Sphere")?;
@@ -442,12 +457,8 @@ impl Parser<'_> {
                 if !name.text.to_ascii_lowercase().ends_with(".obj") {
                     return Err(self.error_at(name.line, name.col, format!("obj_file `{}` is not .obj", name.text)));
                 }
-                if !path.is_file() {
-                    return Err(self.error_at(
-                        name.line,
-                        name.col,
-                        format!("obj_file `{}` not found ({})", name.text, path.display()),
-                    ));
+                if let Err(e) = crate::io::open_regular(&path, "obj_file") {
+                    return Err(self.error_at(name.line, name.col, e.to_string()));
                 }
                 self.expect("}", "to close TriangleMesh")?;
                 ObjectTxt::Mesh { line, path, material: self.material_for(t)? }
