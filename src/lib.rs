@@ -36,6 +36,7 @@ pub mod render;
 pub mod sampling;
 pub mod scene;
 pub mod settings;
+pub mod shapes;
 
 #[path = "../plugins/mod.rs"]
 pub mod plugins;

@@ -226,4 +226,7 @@ pub struct Overrides {
     pub integrator: Option<String>,
     pub accel: Option<AccelKind>,
     pub exposure: Option<f32>,
+    /// Render curved surfaces exactly where the scene asks for a tessellation (RON `tessellation`, the meshes
+    /// 6.837 assignment 8 scenes name).
+    pub exact_curves: bool,
 }

@@ -368,6 +368,8 @@ fn flat_hit() -> prism::primitives::SurfaceHit {
         ng: Vec3A::Z,
         ns: Vec3A::Z,
         uv: Vec2::ZERO,
+        dpdu: Vec3A::X,
+        dpdv: Vec3A::Y,
         t: 1.0,
         prim: 0,
         material: 0,

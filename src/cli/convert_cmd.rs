@@ -13,6 +13,9 @@ pub struct ConvertArgs {
     /// The RON scene to write (.ron).
     #[arg(short, long)]
     pub output: PathBuf,
+    /// Write assignment 8's meshes as the exact surfaces of their spline files (`tessellation: None`).
+    #[arg(long)]
+    pub exact_curves: bool,
 }
 
 pub fn run(args: ConvertArgs) -> anyhow::Result<()> {
@@ -27,7 +30,7 @@ pub fn run(args: ConvertArgs) -> anyhow::Result<()> {
         Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
         _ => PathBuf::from("."),
     };
-    let text = mit6837::convert_file(&args.input, &out_dir)?.ron;
+    let text = mit6837::convert_file(&args.input, &out_dir, args.exact_curves)?.ron;
     parse_scene(&text, &args.output)?;
     std::fs::write(&args.output, text).map_err(|e| PrismError::io(&args.output, e))?;
     Ok(())

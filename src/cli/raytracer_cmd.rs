@@ -15,6 +15,7 @@
 //! | `-grid NX NY NZ` | `--accel grid --grid NX NY NZ` |
 //! | `-visualize_grid` | `--integrator 'debug(mode: grid_cells)'` for the `-output` image |
 //! | `-stats` | the accelerator's statistics on stderr |
+//! | `-exact_curves` (Prism's own) | `--exact-curves`: assignment 8's meshes as the exact surfaces of their spline files |
 //! | `-gui`, `-tessellation A B`, `-gouraud` | ignored (OpenGL preview) |
 //!
 //! Course depths are measured from the camera centre; for orthographic cameras, whose eye Prism moves back
@@ -48,6 +49,8 @@ pub struct CourseOptions {
     pub grid: Option<[u32; 3]>,
     pub visualize_grid: bool,
     pub stats: bool,
+    /// Prism's own `-exact_curves`: assignment 8's meshes as exact curved surfaces.
+    pub exact_curves: bool,
 }
 
 /// Parse course options; unknown ones are errors naming the option.
@@ -82,6 +85,7 @@ pub fn parse_course_options(args: &[String]) -> Result<CourseOptions, PrismError
             }
             "-visualize_grid" => o.visualize_grid = true,
             "-stats" => o.stats = true,
+            "-exact_curves" => o.exact_curves = true,
             "-gui" | "-gouraud" => {}
             "-tessellation" => {
                 take(&mut i, opt)?;
@@ -90,8 +94,8 @@ pub fn parse_course_options(args: &[String]) -> Result<CourseOptions, PrismError
             other => {
                 return Err(PrismError::invalid(format!(
                     "unsupported 6.837 option `{other}` (supported: -input -size -output -depth -normals -shadows \
-                     -bounces -weight -shade_back -grid -visualize_grid -stats; -gui -tessellation -gouraud are \
-                     ignored)"
+                     -bounces -weight -shade_back -grid -visualize_grid -stats, and Prism's -exact_curves; -gui \
+                     -tessellation -gouraud are ignored)"
                 )));
             }
         }
@@ -130,11 +134,13 @@ pub fn run(args: RaytracerArgs) -> anyhow::Result<()> {
         exposure: None,
         checkpoint: 0.0,
         quiet: true,
+        exact_curves: o.exact_curves,
     };
     if o.stats {
         let mut app = crate::App::with_default_plugins();
         app.resources.source = crate::app::SceneSource::File(input.clone());
         app.resources.overrides.accel = super::render_cmd::accel_override(None, o.grid.as_ref().map(|g| &g[..]))?;
+        app.resources.overrides.exact_curves = o.exact_curves;
         app.setup()?;
         let s = app.resources.scene()?.accel.stats();
         eprintln!(
@@ -159,7 +165,7 @@ pub fn run(args: RaytracerArgs) -> anyhow::Result<()> {
         render(base(out.clone(), integrator))?;
     }
     if let Some((near, far, out)) = &o.depth {
-        let back = mit6837::convert_file(&input, Path::new("."))?.eye_back;
+        let back = mit6837::convert_file(&input, Path::new("."), o.exact_curves)?.eye_back;
         render(base(out.clone(), format!("debug(mode: depth, near: {:?}, far: {:?})", near + back, far + back)))?;
     }
     if let Some(out) = &o.normals {

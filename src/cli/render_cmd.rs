@@ -59,6 +59,10 @@ pub struct RenderArgs {
     /// No progress bar and no summary.
     #[arg(long, short)]
     pub quiet: bool,
+    /// Render curved surfaces (revolutions, Bézier patches) exactly where the scene asks for a tessellation: RON
+    /// `tessellation`, and the meshes 6.837 assignment 8 scenes name.
+    #[arg(long)]
+    pub exact_curves: bool,
 }
 
 pub(super) fn parse_accel(s: &str) -> Result<AccelKind, String> {
@@ -145,6 +149,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
         integrator: args.integrator.clone(),
         accel: accel_override(args.accel, args.grid.as_deref())?,
         exposure: args.exposure,
+        exact_curves: args.exact_curves,
     };
     r.outputs = outputs.clone();
     r.checkpoint_every = (args.checkpoint > 0.0).then(|| Duration::from_secs_f64(args.checkpoint));
