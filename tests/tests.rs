@@ -6,6 +6,7 @@ mod common;
 mod accel;
 mod analytic;
 mod converge;
+mod curve_stability;
 mod debug;
 mod determinism;
 mod envlight;

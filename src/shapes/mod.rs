@@ -9,6 +9,7 @@
 //! | `sphere.rs` | spheres and ellipsoids |
 //! | `revolution.rs` | surfaces of revolution (a profile curve revolved about y), exact intersection |
 //! | `profile_tree.rs` | the revolution's seeding structure: rings bounding flat pieces of the profile |
+//! | `strip.rs` | a tight bound of one flat piece: its chord-aligned rectangle, revolved |
 //! | `patch.rs` | bicubic Bézier patches, exact intersection, seeding quadtree |
 //! | `newton.rs` | the Newton iteration both curved surfaces share |
 //! | `tessellate.rs` | the same surfaces as triangle meshes at a chosen resolution |
@@ -21,6 +22,7 @@ pub mod patch;
 pub mod profile_tree;
 pub mod revolution;
 pub mod sphere;
+pub mod strip;
 pub mod tessellate;
 
 pub use curve::{Curve, CurveKind};

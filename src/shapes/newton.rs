@@ -6,7 +6,8 @@
 //! and where the parametrisation degenerates (`S_b = 0` at the poles of a surface of revolution). There the step
 //! falls back to damped least squares (Levenberg–Marquardt, `(J^T J + mu I) x = -J^T F`), which still converges
 //! in the well-determined directions (at a pole: the profile parameter and `t`; the angle is irrelevant there).
-//! A step that does not reduce the residual is halved (up to 6 times). Everything is f64: the roots are accurate
+//! A step longer than the surface's trust region (`ParamSurface::max_step`) is scaled down to it, and a step that
+//! does not reduce the residual is halved (up to 11 times). Everything is f64: the roots are accurate
 //! to about 1e-13 of the object's size, far below the f32 rounding of the hit distance Prism reports.
 
 use glam::DVec3;
@@ -17,6 +18,44 @@ pub trait ParamSurface {
     fn eval(&self, a: f64, b: f64) -> (DVec3, DVec3, DVec3);
     /// Bring parameters back into the domain (clamp or wrap).
     fn clamp(&self, a: f64, b: f64) -> (f64, f64);
+    /// The largest parameter steps `(|da|, |db|)` one iteration may take (a trust region: a huge step, where the
+    /// parametrisation is nearly singular, is scaled down to it before backtracking).
+    fn max_step(&self) -> (f64, f64);
+    /// Second derivatives `(S_aa, S_ab, S_bb)`.
+    fn second(&self, a: f64, b: f64) -> (DVec3, DVec3, DVec3);
+}
+
+/// Where the ray meets the surface again near a grazing root: at a root `(a, b)` the ray crosses the tangent
+/// plane at `cos = n . d` (unit `d`) and the surface bends towards `n` with normal curvature `k` in the ray's
+/// direction (height `k tau^2 / 2` over the tangent plane), so the local model `cos tau = k tau^2 / 2` has its
+/// other root at `tau = 2 cos / k` (in units of length). Returns that offset in units of `t` (`d` need not be unit), or `None` where the model is flat.
+pub fn other_root_offset(surf: &impl ParamSurface, a: f64, b: f64, d: DVec3) -> Option<f64> {
+    let (_, sa, sb) = surf.eval(a, b);
+    let (saa, sab, sbb) = surf.second(a, b);
+    let n = sa.cross(sb).normalize_or_zero();
+    let dl = d.length();
+    if n == DVec3::ZERO || dl == 0.0 {
+        return None;
+    }
+    let du = d / dl;
+    let c = n.dot(du);
+    // Tangential part of the direction in the basis (sa, sb).
+    let v = du - n * c;
+    let (e, f, g) = (sa.dot(sa), sa.dot(sb), sb.dot(sb));
+    let det = e * g - f * f;
+    if det <= 0.0 {
+        return None;
+    }
+    let (p, q) = (v.dot(sa), v.dot(sb));
+    let (x, y) = ((g * p - f * q) / det, (e * q - f * p) / det);
+    let first = e * x * x + 2.0 * f * x * y + g * y * y;
+    let second = n.dot(saa) * x * x + 2.0 * n.dot(sab) * x * y + n.dot(sbb) * y * y;
+    if first <= 0.0 || second == 0.0 {
+        return None;
+    }
+    let k = second / first;
+    let tau = 2.0 * c / k;
+    tau.is_finite().then_some(tau / dl)
 }
 
 /// Iteration limits and tolerances (absolute, in object units).
@@ -46,14 +85,19 @@ pub fn solve(
         if r2 <= stop2 {
             break;
         }
-        let step = newton_step(sa, sb, d, f);
+        let mut step = newton_step(sa, sb, d, f);
         if !step.is_finite() {
             break;
+        }
+        let (ma, mb) = surf.max_step();
+        let over = (step.x.abs() / ma).max(step.y.abs() / mb);
+        if over > 1.0 {
+            step /= over;
         }
         // Backtrack while the residual grows.
         let mut scale = 1.0;
         let mut improved = false;
-        for _ in 0..7 {
+        for _ in 0..12 {
             let (na, nb) = surf.clamp(a + step.x * scale, b + step.y * scale);
             let nt = t + step.z * scale;
             let (ns, nsa, nsb) = surf.eval(na, nb);

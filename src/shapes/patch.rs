@@ -82,6 +82,23 @@ impl ParamSurface for BezierPatch {
     fn clamp(&self, u: f64, v: f64) -> (f64, f64) {
         (u.clamp(0.0, 1.0), v.clamp(0.0, 1.0))
     }
+
+    #[inline]
+    fn max_step(&self) -> (f64, f64) {
+        (0.25, 0.25)
+    }
+
+    fn second(&self, u: f64, v: f64) -> (DVec3, DVec3, DVec3) {
+        let c = &self.ctrl;
+        let (mut col_uu, mut col_u, mut col) = ([DVec3::ZERO; 4], [DVec3::ZERO; 4], [DVec3::ZERO; 4]);
+        for i in 0..4 {
+            let row = [c[4 * i], c[4 * i + 1], c[4 * i + 2], c[4 * i + 3]];
+            col[i] = bezier(&row, u);
+            col_u[i] = bezier_d1(&row, u);
+            col_uu[i] = super::curve::bezier_d2(&row, u);
+        }
+        (bezier(&col_uu, v), bezier_d1(&col_u, v), super::curve::bezier_d2(&col, v))
+    }
 }
 
 /// Split a patch in u (`true`) or v at the middle.

@@ -14,6 +14,7 @@
 //! are monotone over each sector), giving conservative box overlap tests and clipped bounds.
 
 use super::curve::{Curve, split_bezier};
+use super::strip::Strip;
 use crate::geometry::Bounds;
 use glam::{DAffine3, DVec3, Vec3A};
 
@@ -79,12 +80,14 @@ impl Ring {
     }
 }
 
-/// A flat piece of the profile: global parameters `[s0, s1]` and its Bézier control points (z = 0).
+/// A flat piece of the profile: global parameters `[s0, s1]`, its Bézier control points (z = 0) and its tight
+/// oriented bound (`strip.rs`; none for a piece straddling the axis).
 #[derive(Clone, Copy, Debug)]
 pub struct Leaf {
     pub s0: f64,
     pub s1: f64,
     pub ctrl: [DVec3; 4],
+    pub strip: Option<Strip>,
 }
 
 #[derive(Clone, Copy, Debug)]
@@ -98,44 +101,51 @@ struct Node {
 /// Up to two parameter intervals of a ray inside a ring.
 pub type Intervals = ([(f64, f64); 2], usize);
 
-/// The per-ray constants of the ring test: `rho^2(t) = a t^2 + 2 b t + c` is the squared distance from the axis.
+/// The per-ray constants of the ring test. The squared distance from the axis is kept centred on the ray's
+/// closest approach to the axis, `rho^2(t) = a (t - tc)^2 + cmin`, with `cmin` computed from that point itself:
+/// the expanded form `a t^2 + 2 b t + c` loses everything to cancellation near the axis when the origin is far.
 #[derive(Clone, Copy, Debug)]
 pub struct RingRay {
     pub o: DVec3,
     pub d: DVec3,
     a: f64,
-    b: f64,
-    c: f64,
+    tc: f64,
+    cmin: f64,
 }
 
 impl RingRay {
     pub fn new(o: DVec3, d: DVec3) -> Self {
-        RingRay { o, d, a: d.x * d.x + d.z * d.z, b: o.x * d.x + o.z * d.z, c: o.x * o.x + o.z * o.z }
+        let a = d.x * d.x + d.z * d.z;
+        let tc = if a > 0.0 { -(o.x * d.x + o.z * d.z) / a } else { 0.0 };
+        let (px, pz) = (o.x + tc * d.x, o.z + tc * d.z);
+        RingRay { o, d, a, tc, cmin: px * px + pz * pz }
+    }
+
+    /// `(a, tc, cmin)` of `rho^2(t) = a (t - tc)^2 + cmin` (`a = 0`: a ray parallel to the axis, `tc = 0`).
+    #[inline]
+    pub fn centered(&self) -> (f64, f64, f64) {
+        (self.a, self.tc, self.cmin)
     }
 
     /// Squared distance from the axis at `t`.
     #[inline]
     pub fn rho2(&self, t: f64) -> f64 {
-        (self.a * t + 2.0 * self.b) * t + self.c
+        let u = t - self.tc;
+        self.a * u * u + self.cmin
     }
 
     /// The interval where `rho^2(t) <= r^2` (`None`: never; infinite ends for rays parallel to the axis).
     #[inline]
     fn inside_cylinder(&self, r: f64) -> Option<(f64, f64)> {
-        let k = self.c - r * r;
-        if self.a == 0.0 {
-            return (k <= 0.0).then_some((f64::NEG_INFINITY, f64::INFINITY));
-        }
-        let disc = self.b * self.b - self.a * k;
-        if disc < 0.0 {
+        let h = r * r - self.cmin;
+        if h < 0.0 {
             return None;
         }
-        let q = -(self.b + disc.sqrt().copysign(self.b));
-        if q == 0.0 {
-            return Some((0.0, 0.0));
+        if self.a == 0.0 {
+            return Some((f64::NEG_INFINITY, f64::INFINITY));
         }
-        let (t0, t1) = (q / self.a, k / q);
-        Some(if t0 < t1 { (t0, t1) } else { (t1, t0) })
+        let w = (h / self.a).sqrt();
+        Some((self.tc - w, self.tc + w))
     }
 
     /// The ray's intervals inside `ring`, within `[tmin, tmax]`, in increasing order.
@@ -163,7 +173,7 @@ impl RingRay {
         }
         if ring.r_lo > 0.0 {
             if self.a == 0.0 {
-                if self.c < ring.r_lo * ring.r_lo {
+                if self.cmin < ring.r_lo * ring.r_lo {
                     return none;
                 }
             } else if let Some((e0, e1)) = self.inside_cylinder(ring.r_lo) {
@@ -196,10 +206,13 @@ impl ProfileTree {
     pub fn build(curve: &Curve, size: f64) -> ProfileTree {
         let mut leaves = Vec::new();
         let tol = FLATNESS * size;
+        let pad = 1e-9 * size + 4.0 * f64::EPSILON * size;
         for (i, seg) in curve.bezier_segments().iter().enumerate() {
             subdivide(seg, i as f64, i as f64 + 1.0, 0, tol, &mut leaves);
         }
-        let pad = 1e-9 * size + 4.0 * f64::EPSILON * size;
+        for leaf in leaves.iter_mut() {
+            leaf.strip = Strip::new(&leaf.ctrl, pad);
+        }
         let mut nodes = Vec::with_capacity(2 * leaves.len());
         build_nodes(&leaves, 0, leaves.len(), pad, &mut nodes);
         ProfileTree { nodes, leaves }
@@ -344,7 +357,7 @@ fn subdivide(c: &[DVec3; 4], s0: f64, s1: f64, depth: u32, tol: f64, out: &mut V
         dist(c[1]).max(dist(c[2])) <= tol
     };
     if depth >= MAX_DEPTH || (depth >= MIN_DEPTH && flat) {
-        out.push(Leaf { s0, s1, ctrl: *c });
+        out.push(Leaf { s0, s1, ctrl: *c, strip: None });
         return;
     }
     let (l, r) = split_bezier(c, 0.5);

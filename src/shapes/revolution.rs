@@ -21,8 +21,9 @@
 //! s / segments)`: u goes around, v along the profile; `dpdu = 2 pi S_theta`, `dpdv = segments S_s`.
 
 use super::curve::Curve;
-use super::newton::{NewtonTol, ParamSurface, solve};
+use super::newton::{NewtonTol, ParamSurface, other_root_offset, solve};
 use super::profile_tree::{Leaf, ProfileTree, RingRay};
+use super::strip::Spans;
 use super::{AnalyticShape, ShapeHit, ShapePoint};
 use crate::geometry::{Bounds, Ray};
 use glam::{DAffine3, DVec3, Mat3A, Vec2, Vec3A};
@@ -69,6 +70,25 @@ impl ParamSurface for RevSurface<'_> {
     #[inline]
     fn clamp(&self, s: f64, theta: f64) -> (f64, f64) {
         (s.clamp(0.0, self.s_max), theta)
+    }
+
+    #[inline]
+    fn max_step(&self) -> (f64, f64) {
+        (0.5, 1.0)
+    }
+
+    fn second(&self, s: f64, theta: f64) -> (DVec3, DVec3, DVec3) {
+        let (i, w) = self.profile.locate(s);
+        let seg = &self.profile.bezier_segments()[i];
+        let p = super::curve::bezier(seg, w);
+        let dp = super::curve::bezier_d1(seg, w);
+        let ddp = super::curve::bezier_d2(seg, w);
+        let (sn, cs) = theta.sin_cos();
+        (
+            DVec3::new(ddp.x * cs, ddp.y, ddp.x * sn),
+            DVec3::new(-dp.x * sn, 0.0, dp.x * cs),
+            DVec3::new(-p.x * cs, 0.0, -p.x * sn),
+        )
     }
 }
 
@@ -133,15 +153,92 @@ impl Revolution {
             tmin,
             || best_cell.get(),
             |leaf, iv| {
-                for_each_seed(leaf, &ray, iv, |seed| {
-                    if let Some((s, th, t)) = solve(&surf, o, d, seed, &tol)
-                        && t > tmin
-                        && t < best_t
-                    {
-                        best_t = t;
-                        best = Some((s, th, t));
+                let spans = match &leaf.strip {
+                    Some(strip) => strip.clip(&ray, &iv.0[..iv.1]),
+                    None => {
+                        let mut s = Spans::EMPTY;
+                        s.iv[..iv.1].copy_from_slice(&iv.0[..iv.1]);
+                        s.n = iv.1;
+                        s
                     }
-                });
+                };
+                let mut roots = [0.0f64; 2];
+                let nroots = chord_cone_roots(leaf.ctrl[0], leaf.ctrl[3], &ray, &mut roots);
+                let dbg = std::env::var("PRISM_DBG").is_ok();
+                if dbg { eprintln!("leaf [{:.4},{:.4}] ring {:?} strip {:?} chord roots {:?}", leaf.s0, leaf.s1, &iv.0[..iv.1], spans.as_slice(), &roots[..nroots]); }
+                // Split the spans where the ray is closest to the axis: on each side the ray's distance from the axis
+                // is monotone, so a flat piece is crossed once except near tangency.
+                let (qa, tc, _) = ray.centered();
+                let tc = if qa > 0.0 { tc } else { f64::NEG_INFINITY };
+                let mut pieces = [(0.0f64, 0.0f64); 8];
+                let mut np = 0;
+                for &(t0, t1) in spans.as_slice() {
+                    if tc > t0 && tc < t1 {
+                        pieces[np] = (t0, tc);
+                        pieces[np + 1] = (tc, t1);
+                        np += 2;
+                    } else {
+                        pieces[np] = (t0, t1);
+                        np += 1;
+                    }
+                }
+                for &(t0, t1) in &pieces[..np] {
+                    if t0 > best_t {
+                        break;
+                    }
+                    // The root Newton reaches from `t`: kept if nearest; `Some(root)` if it is this leaf's root
+                    // within the span.
+                    let mut try_seed = |t: f64| -> Option<(f64, f64, f64)> {
+                        let r = solve(&surf, o, d, seed_at(leaf, &ray, t), &tol);
+                        if dbg { eprintln!("   seed t {t} {:?} -> {r:?}", seed_at(leaf, &ray, t)); }
+                        let (s, th, tr) = r?;
+                        if tr > tmin && tr < best_t {
+                            best_t = tr;
+                            best = Some((s, th, tr));
+                        }
+                        let slack = 1e-9 * (leaf.s1 - leaf.s0);
+                        let w = 1e-6 * (t1 - t0) + tol.accept / dl;
+                        (s >= leaf.s0 - slack && s <= leaf.s1 + slack && tr >= t0 - w && tr <= t1 + w)
+                            .then_some((s, th, tr))
+                    };
+                    // Seeds: the chord's roots in the span, else its middle.
+                    let mut own: Option<(f64, f64, f64)> = None;
+                    let mut seeded = false;
+                    for &t in &roots[..nroots] {
+                        if t >= t0 && t <= t1 {
+                            let r = try_seed(t);
+                            own = own.or(r);
+                            seeded = true;
+                        }
+                    }
+                    if !seeded {
+                        own = try_seed(0.5 * (t0 + t1));
+                    }
+                    let w = t1 - t0;
+                    match own {
+                        // A root well inside the span may hide a nearer one: a ray cutting through a band twice (try
+                        // from the span's start), or grazing it (try where the surface's curvature brings it back).
+                        Some((s, th, t)) => {
+                            if let Some(dt) = other_root_offset(&surf, s, th, d)
+                                && dt < 0.0
+                                && t + dt > t0
+                            {
+                                try_seed(t + dt);
+                            }
+                            if t > t0 + 0.1 * w {
+                                try_seed(t0 + 0.01 * w);
+                            }
+                        }
+                        // No seed reached this leaf's root: more seeds across the span.
+                        None => {
+                            for f in [0.05, 0.5, 0.95] {
+                                if try_seed(t0 + f * w).is_some() {
+                                    break;
+                                }
+                            }
+                        }
+                    }
+                }
                 best_cell.set(best_t);
                 !(any && best.is_some())
             },
@@ -171,43 +268,56 @@ impl Revolution {
     }
 }
 
-/// Seeds `(s, theta, t)` for one leaf: roots of the chord's cone within the intervals, else interval middles.
+/// The seed `(s, theta, t)` at ray parameter `t` in a leaf: the angle of the ray point, and the profile
+/// parameter of its projection onto the leaf's chord.
 #[inline]
-fn for_each_seed(leaf: &Leaf, ray: &RingRay, iv: &super::profile_tree::Intervals, mut f: impl FnMut((f64, f64, f64))) {
+fn seed_at(leaf: &Leaf, ray: &RingRay, t: f64) -> (f64, f64, f64) {
     let (a, b) = (leaf.ctrl[0], leaf.ctrl[3]);
     let e = b - a;
     let len2 = e.x * e.x + e.y * e.y;
-    let lambda_of = |t: f64| -> f64 {
-        if len2 == 0.0 {
-            return 0.5;
-        }
+    let p = ray.o + ray.d * t;
+    let neg = a.x + b.x < 0.0;
+    let w = if len2 == 0.0 {
+        0.5
+    } else {
         let rho = ray.rho2(t).max(0.0).sqrt();
         // Points with negative profile x sit at radius -x.
-        let x = if a.x + b.x < 0.0 { -rho } else { rho };
-        let y = ray.o.y + t * ray.d.y;
-        (((x - a.x) * e.x + (y - a.y) * e.y) / len2).clamp(0.0, 1.0)
+        let x = if neg { -rho } else { rho };
+        let target = (x - a.x) * e.x + (p.y - a.y) * e.y;
+        // The leaf's parameter whose point projects there: the projection of the Bézier onto the chord is a
+        // cubic in the leaf's parameter, far from linear near repeated control points (poles, cusps).
+        let l = leaf.ctrl.map(|c| (c.x - a.x) * e.x + (c.y - a.y) * e.y);
+        invert_cubic(&l, target)
     };
-    let seed_at = |t: f64| {
-        let p = ray.o + ray.d * t;
-        let lambda = lambda_of(t);
-        let theta = if a.x + b.x < 0.0 { (-p.z).atan2(-p.x) } else { p.z.atan2(p.x) };
-        (leaf.s0 + lambda * (leaf.s1 - leaf.s0), theta, t)
+    let theta = if neg { (-p.z).atan2(-p.x) } else { p.z.atan2(p.x) };
+    (leaf.s0 + w * (leaf.s1 - leaf.s0), theta, t)
+}
+
+/// The `w` in `[0, 1]` where the Bernstein cubic with coefficients `l` takes the value `target` (bisection; the
+/// coefficients of a flat leaf increase, so the cubic is monotone), clamped to the ends.
+fn invert_cubic(l: &[f64; 4], target: f64) -> f64 {
+    let f = |w: f64| {
+        let m = 1.0 - w;
+        l[0] * m * m * m + 3.0 * l[1] * m * m * w + 3.0 * l[2] * m * w * w + l[3] * w * w * w
     };
-    let mut roots = [0.0f64; 2];
-    let n = chord_cone_roots(a, b, ray, &mut roots);
-    for k in 0..iv.1 {
-        let (t0, t1) = iv.0[k];
-        let mut seeded = false;
-        for &t in &roots[..n] {
-            if t >= t0 && t <= t1 {
-                f(seed_at(t));
-                seeded = true;
-            }
-        }
-        if !seeded {
-            f(seed_at(0.5 * (t0 + t1)));
+    let increasing = l[3] >= l[0];
+    let below = |v: f64| if increasing { v < target } else { v > target };
+    if !below(l[0]) {
+        return 0.0;
+    }
+    if below(l[3]) {
+        return 1.0;
+    }
+    let (mut lo, mut hi) = (0.0, 1.0);
+    for _ in 0..40 {
+        let mid = 0.5 * (lo + hi);
+        if below(f(mid)) {
+            lo = mid;
+        } else {
+            hi = mid;
         }
     }
+    0.5 * (lo + hi)
 }
 
 /// Roots `t` of the ray with the surface swept by the segment `a b` of the half-plane (a cone, cylinder or disc).
@@ -221,14 +331,16 @@ fn chord_cone_roots(a: DVec3, b: DVec3, ray: &RingRay, out: &mut [f64; 2]) -> us
     }
     let k = mx * a.x + my * a.y;
     let (o, d) = (ray.o, ray.d);
-    // mx^2 rho^2(t) = (K - L t)^2 with K = k - my oy, L = my dy.
-    let kk = k - my * o.y;
+    // mx^2 rho^2(t) = (K - L t)^2 with K = k - my oy, L = my dy; in tau = t - tc, rho^2 = ra tau^2 + cmin.
+    let (ra, tc, cmin) = ray.centered();
+    let kk = k - my * o.y - my * d.y * tc;
     let ll = my * d.y;
-    let qa = mx * mx * (d.x * d.x + d.z * d.z) - ll * ll;
-    let qb = mx * mx * (o.x * d.x + o.z * d.z) + kk * ll;
-    let qc = mx * mx * (o.x * o.x + o.z * o.z) - kk * kk;
+    let qa = mx * mx * ra - ll * ll;
+    let qb = kk * ll;
+    let qc = mx * mx * cmin - kk * kk;
     let mut n = 0;
-    let mut push = |t: f64| {
+    let mut push = |tau: f64| {
+        let t = tau + tc;
         // Keep roots on the chord's side of the axis and within the chord (with a margin).
         let y = o.y + t * d.y;
         let rho = ray.rho2(t).max(0.0).sqrt();
@@ -248,7 +360,10 @@ fn chord_cone_roots(a: DVec3, b: DVec3, ray: &RingRay, out: &mut [f64; 2]) -> us
         }
         return n;
     }
-    let disc = qb * qb - qa * qc;
+    let mut disc = qb * qb - qa * qc;
+    if disc < 0.0 && disc > -1e-12 * (qb * qb + (qa * qc).abs()) {
+        disc = 0.0;
+    }
     if disc < 0.0 {
         return 0;
     }
