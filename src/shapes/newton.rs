@@ -28,8 +28,9 @@ pub trait ParamSurface {
 /// Where the ray meets the surface again near a grazing root: at a root `(a, b)` the ray crosses the tangent
 /// plane at `cos = n . d` (unit `d`) and the surface bends towards `n` with normal curvature `k` in the ray's
 /// direction (height `k tau^2 / 2` over the tangent plane), so the local model `cos tau = k tau^2 / 2` has its
-/// other root at `tau = 2 cos / k` (in units of length). Returns that offset in units of `t` (`d` need not be unit), or `None` where the model is flat.
-pub fn other_root_offset(surf: &impl ParamSurface, a: f64, b: f64, d: DVec3) -> Option<f64> {
+/// other root at `tau = 2 cos / k` (in units of length). Returns that offset in units of `t` (`d` need not be
+/// unit; infinite where the model is flat) and the cosine, or `None` at a degenerate point.
+pub fn other_root_offset(surf: &impl ParamSurface, a: f64, b: f64, d: DVec3) -> Option<(f64, f64)> {
     let (_, sa, sb) = surf.eval(a, b);
     let (saa, sab, sbb) = surf.second(a, b);
     let n = sa.cross(sb).normalize_or_zero();
@@ -50,12 +51,12 @@ pub fn other_root_offset(surf: &impl ParamSurface, a: f64, b: f64, d: DVec3) -> 
     let (x, y) = ((g * p - f * q) / det, (e * q - f * p) / det);
     let first = e * x * x + 2.0 * f * x * y + g * y * y;
     let second = n.dot(saa) * x * x + 2.0 * n.dot(sab) * x * y + n.dot(sbb) * y * y;
-    if first <= 0.0 || second == 0.0 {
+    if first <= 0.0 {
         return None;
     }
     let k = second / first;
     let tau = 2.0 * c / k;
-    tau.is_finite().then_some(tau / dl)
+    Some((if tau.is_nan() { f64::INFINITY } else { tau / dl }, c))
 }
 
 /// Iteration limits and tolerances (absolute, in object units).

@@ -342,6 +342,17 @@ pub fn world_box(m: &DAffine3, lo: DVec3, hi: DVec3) -> Bounds {
 }
 
 fn subdivide(c: &[DVec3; 4], s0: f64, s1: f64, depth: u32, tol: f64, out: &mut Vec<Leaf>) {
+    // A piece whose radius changes sign (the profile crosses the axis) is cut where it does, so every leaf lies on
+    // one side of the axis and gets a strip.
+    if depth < MAX_DEPTH
+        && let Some(w) = axis_crossing(c)
+    {
+        let (l, r) = split_bezier(c, w);
+        let mid = s0 + w * (s1 - s0);
+        subdivide(&l, s0, mid, depth + 1, tol, out);
+        subdivide(&r, mid, s1, depth + 1, tol, out);
+        return;
+    }
     let flat = {
         let (a, b) = (c[0], c[3]);
         let e = b - a;
@@ -364,6 +375,28 @@ fn subdivide(c: &[DVec3; 4], s0: f64, s1: f64, depth: u32, tol: f64, out: &mut V
     let mid = 0.5 * (s0 + s1);
     subdivide(&l, s0, mid, depth + 1, tol, out);
     subdivide(&r, mid, s1, depth + 1, tol, out);
+}
+
+/// The parameter strictly inside `(0, 1)` where the piece's x changes sign, if its control points straddle the
+/// axis and the ends have opposite signs (bisection); `None` otherwise.
+fn axis_crossing(c: &[DVec3; 4]) -> Option<f64> {
+    let straddles = c.iter().any(|p| p.x > 0.0) && c.iter().any(|p| p.x < 0.0);
+    if !straddles || c[0].x * c[3].x >= 0.0 {
+        return None;
+    }
+    let x = |w: f64| super::curve::bezier(c, w).x;
+    let (mut lo, mut hi) = (0.0, 1.0);
+    let positive_at_lo = c[0].x > 0.0;
+    for _ in 0..60 {
+        let mid = 0.5 * (lo + hi);
+        if (x(mid) > 0.0) == positive_at_lo {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    let w = 0.5 * (lo + hi);
+    (w > 1e-9 && w < 1.0 - 1e-9).then_some(w)
 }
 
 /// Nodes over `leaves[lo..hi]` in depth-first order; returns the ring of the subtree.

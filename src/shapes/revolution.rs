@@ -164,8 +164,6 @@ impl Revolution {
                 };
                 let mut roots = [0.0f64; 2];
                 let nroots = chord_cone_roots(leaf.ctrl[0], leaf.ctrl[3], &ray, &mut roots);
-                let dbg = std::env::var("PRISM_DBG").is_ok();
-                if dbg { eprintln!("leaf [{:.4},{:.4}] ring {:?} strip {:?} chord roots {:?}", leaf.s0, leaf.s1, &iv.0[..iv.1], spans.as_slice(), &roots[..nroots]); }
                 // Split the spans where the ray is closest to the axis: on each side the ray's distance from the axis
                 // is monotone, so a flat piece is crossed once except near tangency.
                 let (qa, tc, _) = ray.centered();
@@ -190,7 +188,6 @@ impl Revolution {
                     // within the span.
                     let mut try_seed = |t: f64| -> Option<(f64, f64, f64)> {
                         let r = solve(&surf, o, d, seed_at(leaf, &ray, t), &tol);
-                        if dbg { eprintln!("   seed t {t} {:?} -> {r:?}", seed_at(leaf, &ray, t)); }
                         let (s, th, tr) = r?;
                         if tr > tmin && tr < best_t {
                             best_t = tr;
@@ -198,7 +195,8 @@ impl Revolution {
                         }
                         let slack = 1e-9 * (leaf.s1 - leaf.s0);
                         let w = 1e-6 * (t1 - t0) + tol.accept / dl;
-                        (s >= leaf.s0 - slack && s <= leaf.s1 + slack && tr >= t0 - w && tr <= t1 + w)
+                        // Only a usable root counts (not one at the origin of a ray starting on the surface).
+                        (tr > tmin && s >= leaf.s0 - slack && s <= leaf.s1 + slack && tr >= t0 - w && tr <= t1 + w)
                             .then_some((s, th, tr))
                     };
                     // Seeds: the chord's roots in the span, else its middle.
@@ -219,14 +217,12 @@ impl Revolution {
                         // A root well inside the span may hide a nearer one: a ray cutting through a band twice (try
                         // from the span's start), or grazing it (try where the surface's curvature brings it back).
                         Some((s, th, t)) => {
-                            if let Some(dt) = other_root_offset(&surf, s, th, d)
-                                && dt < 0.0
-                                && t + dt > t0
-                            {
+                            let (dt, cos) = other_root_offset(&surf, s, th, d).unwrap_or((f64::INFINITY, 0.0));
+                            if dt < 0.0 && t + dt > t0 {
                                 try_seed(t + dt);
                             }
-                            if t > t0 + 0.1 * w {
-                                try_seed(t0 + 0.01 * w);
+                            if t > t0 + 0.1 * w || cos.abs() < 0.05 {
+                                try_seed(t0 + 1e-3 * (t - t0));
                             }
                         }
                         // No seed reached this leaf's root: more seeds across the span.
