@@ -19,7 +19,7 @@
 //! in f64 rounded to f32, error bound `2^-23 |p|` plus `1e-9` of the patch size.
 
 use super::curve::{bezier, bezier_d1, split_bezier};
-use super::newton::{NewtonTol, ParamSurface, solve};
+use super::newton::{NewtonTol, ParamSurface, other_root_offset, solve};
 use super::{AnalyticShape, ShapeHit, ShapePoint};
 use crate::geometry::{Bounds, Ray};
 use glam::{DVec3, Vec2, Vec3A};
@@ -38,12 +38,65 @@ struct Node {
     count: u32,
 }
 
+/// A flat sub-patch: its parameter domain, its frame at the centre (point and partial derivatives, for seeds)
+/// and the slab `n . p in [lo, hi]` holding its control points (so the sub-patch: convex hull property) around
+/// its central tangent plane.
 #[derive(Clone, Copy, Debug)]
 struct PatchLeaf {
     u0: f64,
     u1: f64,
     v0: f64,
     v1: f64,
+    center: DVec3,
+    su: DVec3,
+    sv: DVec3,
+    n: DVec3,
+    lo: f64,
+    hi: f64,
+}
+
+impl PatchLeaf {
+    fn new(c: &[DVec3; 16], dom: (f64, f64, f64, f64), full: &[DVec3; 16], pad: f64) -> PatchLeaf {
+        let (uc, vc) = (0.5 * (dom.0 + dom.1), 0.5 * (dom.2 + dom.3));
+        let (center, su, sv) = patch_eval(full, uc, vc);
+        let mut n = su.cross(sv).normalize_or_zero();
+        if n == DVec3::ZERO {
+            n = (c[3] - c[0]).cross(c[12] - c[0]).normalize_or_zero();
+        }
+        if n == DVec3::ZERO {
+            n = DVec3::Z;
+        }
+        let (lo, hi) = c.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| (a.min(n.dot(*p)), b.max(n.dot(*p))));
+        PatchLeaf { u0: dom.0, u1: dom.1, v0: dom.2, v1: dom.3, center, su, sv, n, lo: lo - pad, hi: hi + pad }
+    }
+
+    /// The part of `[t0, t1]` where the ray is inside the slab.
+    #[inline]
+    fn clip(&self, o: DVec3, d: DVec3, t0: f64, t1: f64) -> Option<(f64, f64)> {
+        let (no, nd) = (self.n.dot(o), self.n.dot(d));
+        if nd == 0.0 {
+            return (no >= self.lo && no <= self.hi).then_some((t0, t1));
+        }
+        let (a, b) = ((self.lo - no) / nd, (self.hi - no) / nd);
+        let (lo, hi) = (t0.max(a.min(b)), t1.min(a.max(b)));
+        (lo <= hi).then_some((lo, hi))
+    }
+
+    /// A seed `(u, v, t)` at ray parameter `t`: the ray point projected on the central tangent plane, expressed in
+    /// the central partial derivatives, clamped to the leaf.
+    #[inline]
+    fn seed(&self, o: DVec3, d: DVec3, t: f64) -> (f64, f64, f64) {
+        let q = o + d * t - self.center;
+        let (e, f, g) = (self.su.dot(self.su), self.su.dot(self.sv), self.sv.dot(self.sv));
+        let det = e * g - f * f;
+        let (uc, vc) = (0.5 * (self.u0 + self.u1), 0.5 * (self.v0 + self.v1));
+        if det <= 0.0 {
+            return (uc, vc, t);
+        }
+        let (p, r) = (q.dot(self.su), q.dot(self.sv));
+        let (du, dv) = ((g * p - f * r) / det, (e * r - f * p) / det);
+        ((uc + du).clamp(self.u0, self.u1), (vc + dv).clamp(self.v0, self.v1), t)
+    }
 }
 
 /// A bicubic Bézier patch in world space with its seeding quadtree.
@@ -153,7 +206,8 @@ impl BezierPatch {
         let (lo, hi) = ctrl_box(c, pad);
         if depth >= MAX_DEPTH || (depth >= MIN_DEPTH && is_flat(c, tol)) {
             self.nodes[me] = Node { lo, hi, first: self.leaves.len() as u32, count: 0 };
-            self.leaves.push(PatchLeaf { u0: dom.0, u1: dom.1, v0: dom.2, v1: dom.3 });
+            let full = self.ctrl;
+            self.leaves.push(PatchLeaf::new(c, dom, &full, pad));
             return;
         }
         let (um, vm) = (0.5 * (dom.0 + dom.1), 0.5 * (dom.2 + dom.3));
@@ -185,7 +239,8 @@ impl BezierPatch {
     fn query(&self, o: DVec3, d: DVec3, tmax: f64, any: bool) -> Option<(f64, f64, f64)> {
         let scale = self.size.max((o - self.ctrl[0]).length() * 1e-3);
         let tol = NewtonTol { stop: 1e-13 * scale, accept: 1e-9 * scale, max_iter: 24 };
-        let tmin = 4e-10 * scale / d.length();
+        let dl = d.length();
+        let tmin = 4e-10 * scale / dl;
         let inv = DVec3::ONE / d;
         let slab = |n: &Node, limit: f64| -> Option<(f64, f64)> {
             let ta = (n.lo - o) * inv;
@@ -209,27 +264,49 @@ impl BezierPatch {
             }
             let n = self.nodes[ni as usize];
             if n.count == 0 {
-                let leaf = self.leaves[n.first as usize];
-                let (uc, vc) = (0.5 * (leaf.u0 + leaf.u1), 0.5 * (leaf.v0 + leaf.v1));
-                let (sc, su, sv) = self.eval(uc, vc);
-                let nc = su.cross(sv);
-                let dn = d.dot(nc);
-                let t_mid = 0.5 * (t0 + t1);
-                let t_plane = if dn.abs() > 1e-3 * d.length() * nc.length() { (sc - o).dot(nc) / dn } else { t_mid };
-                let t_seed = if t_plane.is_finite() && t_plane >= t0 && t_plane <= t1 { t_plane } else { t_mid };
-                let mut found = solve(self, o, d, (uc, vc, t_seed), &tol);
-                if found.is_none() && t_seed != t_mid {
-                    found = solve(self, o, d, (uc, vc, t_mid), &tol);
-                }
-                if let Some((u, v, t)) = found
-                    && t > tmin
-                    && t < best_t
-                {
-                    best_t = t;
-                    best = Some((u, v, t));
-                    if any {
-                        return best;
+                let leaf = &self.leaves[n.first as usize];
+                let Some((t0, t1)) = leaf.clip(o, d, t0, t1.min(best_t)) else { continue };
+                // The root Newton reaches from the seed at `t`: kept if nearest; `Some(root)` if it is this
+                // leaf's own root within the span.
+                let mut try_seed = |t: f64| -> Option<(f64, f64, f64)> {
+                    let (u, v, tr) = solve(self, o, d, leaf.seed(o, d, t), &tol)?;
+                    if tr > tmin && tr < best_t {
+                        best_t = tr;
+                        best = Some((u, v, tr));
                     }
+                    let (su, sv) = (1e-9 * (leaf.u1 - leaf.u0), 1e-9 * (leaf.v1 - leaf.v0));
+                    let w = 1e-6 * (t1 - t0) + tol.accept / dl;
+                    let inside = u >= leaf.u0 - su && u <= leaf.u1 + su && v >= leaf.v0 - sv && v <= leaf.v1 + sv;
+                    (tr > tmin && inside && tr >= t0 - w && tr <= t1 + w).then_some((u, v, tr))
+                };
+                // Seed where the ray crosses the central tangent plane (a flat leaf is close to it), else the
+                // middle of the span.
+                let nd = leaf.n.dot(d);
+                let t_plane = if nd != 0.0 { (leaf.n.dot(leaf.center) - leaf.n.dot(o)) / nd } else { f64::NAN };
+                let t_seed = if t_plane >= t0 && t_plane <= t1 { t_plane } else { 0.5 * (t0 + t1) };
+                let w = t1 - t0;
+                match try_seed(t_seed) {
+                    // A root well inside the span, or a grazing one, may hide a nearer root.
+                    Some((u, v, t)) => {
+                        let (dt, cos) = other_root_offset(self, u, v, d).unwrap_or((f64::INFINITY, 0.0));
+                        if dt < 0.0 && t + dt > t0 {
+                            try_seed(t + dt);
+                        }
+                        if t > t0 + 0.1 * w || cos.abs() < 0.05 {
+                            try_seed(t0 + 1e-3 * (t - t0));
+                        }
+                    }
+                    // No own root yet: more seeds across the span.
+                    None => {
+                        for f in [0.05, 0.5, 0.95] {
+                            if try_seed(t0 + f * w).is_some() {
+                                break;
+                            }
+                        }
+                    }
+                }
+                if any && best.is_some() {
+                    return best;
                 }
                 continue;
             }
