@@ -524,7 +524,9 @@ fn debug_revolution_failures() {
     let reference = ConeReference::new(&profile, 1 << 16);
     let size = reference.size;
     let mut shown = 0;
-    for (o, d) in revolution_rays(&profile, class, 20000, 1) {
+    let seed: u64 = std::env::var("PRISM_SEED").ok().and_then(|v| v.parse().ok()).unwrap_or(1);
+    let n: usize = std::env::var("PRISM_RAYS").ok().and_then(|v| v.parse().ok()).unwrap_or(20000);
+    for (o, d) in revolution_rays(&profile, class, n, seed) {
         let ray = Ray::new(Vec3A::from(o.as_vec3()), Vec3A::from(d.as_vec3()));
         let (o, d) = (ray.origin.as_dvec3(), ray.dir.as_dvec3());
         let exact = shape.intersect(&ray);

@@ -227,9 +227,20 @@ impl Revolution {
                         }
                         // No seed reached this leaf's root: more seeds across the span.
                         None => {
+                            let mut found = false;
                             for f in [0.05, 0.5, 0.95] {
                                 if try_seed(t0 + f * w).is_some() {
+                                    found = true;
                                     break;
+                                }
+                            }
+                            // Still nothing: isolate the leaf's crossings along the span in one dimension (a ray
+                            // grazing the band: two close roots that seeds far from them miss).
+                            if !found {
+                                let mut seeds = [0.0f64; 4];
+                                let k = isolate_crossings(leaf, &ray, t0, t1, &mut seeds);
+                                for &t in &seeds[..k] {
+                                    try_seed(t);
                                 }
                             }
                         }
@@ -314,6 +325,88 @@ fn invert_cubic(l: &[f64; 4], target: f64) -> f64 {
         }
     }
     0.5 * (lo + hi)
+}
+
+/// Where along `[t0, t1]` the ray crosses the leaf, found in one dimension: in the chord's frame the leaf is a
+/// graph `mu = phi(lambda)` (flat leaves are monotone along their chord), so `g(t) = mu(t) - phi(lambda(t))`
+/// changes sign where the ray's point in the half-plane crosses the curve. `g` is sampled at 9 points; each sign
+/// change is bisected to a root, and an interior extremum of `|g|` is searched (golden section) for a dip through
+/// zero (two close roots: a grazing ray). Writes up to 4 ray parameters, returns how many.
+fn isolate_crossings(leaf: &Leaf, ray: &RingRay, t0: f64, t1: f64, out: &mut [f64; 4]) -> usize {
+    let (a, b) = (leaf.ctrl[0], leaf.ctrl[3]);
+    let neg = a.x + b.x < 0.0;
+    let sx = if neg { -1.0 } else { 1.0 };
+    let (ax, ay) = (sx * a.x, a.y);
+    let (ex, ey) = (sx * b.x - ax, b.y - ay);
+    let len = (ex * ex + ey * ey).sqrt();
+    if len == 0.0 || !(t1 > t0) {
+        return 0;
+    }
+    let (e, m) = ((ex / len, ey / len), (-ey / len, ex / len));
+    let l = leaf.ctrl.map(|c| (sx * c.x - ax) * e.0 + (c.y - ay) * e.1);
+    let mu = leaf.ctrl.map(|c| (sx * c.x - ax) * m.0 + (c.y - ay) * m.1);
+    let bern = |c: &[f64; 4], w: f64| {
+        let v = 1.0 - w;
+        c[0] * v * v * v + 3.0 * c[1] * v * v * w + 3.0 * c[2] * v * w * w + c[3] * w * w * w
+    };
+    let g = |t: f64| {
+        let rho = ray.rho2(t).max(0.0).sqrt();
+        let y = ray.o.y + t * ray.d.y;
+        let (px, py) = (rho - ax, y - ay);
+        let lt = px * e.0 + py * e.1;
+        let mt = px * m.0 + py * m.1;
+        mt - bern(&mu, invert_cubic(&l, lt))
+    };
+    let bisect = |mut lo: f64, mut hi: f64, glo: f64| {
+        for _ in 0..50 {
+            let mid = 0.5 * (lo + hi);
+            if (g(mid) > 0.0) == (glo > 0.0) {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        0.5 * (lo + hi)
+    };
+    const K: usize = 9;
+    let ts: [f64; K] = std::array::from_fn(|i| t0 + (t1 - t0) * i as f64 / (K - 1) as f64);
+    let gs: [f64; K] = ts.map(g);
+    let mut n = 0;
+    let mut push = |t: f64| {
+        if n < out.len() {
+            out[n] = t;
+            n += 1;
+        }
+    };
+    for i in 0..K - 1 {
+        if (gs[i] > 0.0) != (gs[i + 1] > 0.0) {
+            push(bisect(ts[i], ts[i + 1], gs[i]));
+        }
+    }
+    for i in 1..K - 1 {
+        let (gl, gm, gr) = (gs[i - 1], gs[i], gs[i + 1]);
+        let same = (gl > 0.0) == (gm > 0.0) && (gm > 0.0) == (gr > 0.0);
+        if same && gm.abs() < gl.abs() && gm.abs() < gr.abs() {
+            // Golden-section search for the extremum of |g| between the neighbours.
+            let s = if gm > 0.0 { 1.0 } else { -1.0 };
+            let (mut lo, mut hi) = (ts[i - 1], ts[i + 1]);
+            let r = 0.618_033_988_749_895;
+            for _ in 0..40 {
+                let (x1, x2) = (hi - r * (hi - lo), lo + r * (hi - lo));
+                if s * g(x1) < s * g(x2) {
+                    hi = x2;
+                } else {
+                    lo = x1;
+                }
+            }
+            let te = 0.5 * (lo + hi);
+            if (g(te) > 0.0) != (gm > 0.0) {
+                push(bisect(ts[i - 1], te, gl));
+                push(bisect(te, ts[i + 1], g(te)));
+            }
+        }
+    }
+    n
 }
 
 /// Roots `t` of the ray with the surface swept by the segment `a b` of the half-plane (a cone, cylinder or disc).
