@@ -361,11 +361,7 @@ fn judge(exact: Option<(f64, f64)>, reference: Option<(f64, f64)>, size: f64, ac
             let c = ce.min(cr);
             let err = (t - tr).abs() / size;
             if err > 1e-4 + 4.0 * acc.err / (c.max(1e-12) * size) {
-                if c < graze {
-                    tally.ambiguous += 1
-                } else {
-                    tally.wrong_root += 1
-                }
+                if c < graze { tally.ambiguous += 1 } else { tally.wrong_root += 1 }
             } else if acc.err == 0.0 {
                 tally.max_err = tally.max_err.max(err);
             }
@@ -502,104 +498,6 @@ fn measure_revolution_failures_over_a_million_rays_per_class() {
                 "| {name} | {class:?} | {} | {} | {} | {} | {} | {} | {} | {} | {:.1e} |",
                 t.rays, t.hits, t.missed, t.spurious, t.wrong_root, t.acne, t.ambiguous, t.self_hits, t.max_err
             );
-        }
-    }
-}
-
-#[test]
-#[ignore]
-fn debug_revolution_failures() {
-    let which = std::env::var("PRISM_PROFILE").unwrap_or("vase".into());
-    let class = match std::env::var("PRISM_CLASS").unwrap_or("Random".into()).as_str() {
-        "Grazing" => RayClass::Grazing,
-        "AlongAxis" => RayClass::AlongAxis,
-        "Poles" => RayClass::Poles,
-        "Cusps" => RayClass::Cusps,
-        "OnSurface" => RayClass::OnSurface,
-        "Spawned" => RayClass::Spawned,
-        _ => RayClass::Random,
-    };
-    let (_, profile) = profiles().into_iter().find(|(n, _)| n.starts_with(&which)).unwrap();
-    let shape = Revolution::new(profile.clone(), DAffine3::IDENTITY, 0, NO_LIGHT);
-    let reference = ConeReference::new(&profile, 1 << 16);
-    let size = reference.size;
-    let mut shown = 0;
-    let seed: u64 = std::env::var("PRISM_SEED").ok().and_then(|v| v.parse().ok()).unwrap_or(1);
-    let n: usize = std::env::var("PRISM_RAYS").ok().and_then(|v| v.parse().ok()).unwrap_or(20000);
-    for (o, d) in revolution_rays(&profile, class, n, seed) {
-        let ray = Ray::new(Vec3A::from(o.as_vec3()), Vec3A::from(d.as_vec3()));
-        let (o, d) = (ray.origin.as_dvec3(), ray.dir.as_dvec3());
-        let exact = shape.intersect(&ray);
-        let r = reference.nearest(o, d, 0.0, f64::INFINITY);
-        let bad = match (exact, r) {
-            (Some(h), Some((t, c))) => (h.t as f64 - t).abs() > 1e-4 * size && c >= 1e-3,
-            (None, Some((_, c))) => c >= 1e-3,
-            (Some(_), None) => true,
-            _ => false,
-        };
-        if bad && shown < 8 {
-            shown += 1;
-            println!("o {o:?} d {d:?}\n  exact {exact:?}\n  ref {r:?}");
-        }
-    }
-}
-
-#[test]
-#[ignore]
-fn debug_one_ray() {
-    let which = std::env::var("PRISM_PROFILE").unwrap_or("vase".into());
-    let (_, profile) = profiles().into_iter().find(|(n, _)| n.starts_with(&which)).unwrap();
-    let shape = Revolution::new(profile.clone(), DAffine3::IDENTITY, 0, NO_LIGHT);
-    let v: Vec<f32> = std::env::var("PRISM_RAY").unwrap().split(',').map(|x| x.trim().parse().unwrap()).collect();
-    let ray = Ray::new(Vec3A::new(v[0], v[1], v[2]), Vec3A::new(v[3], v[4], v[5]));
-    println!("{:?}", shape.intersect(&ray));
-}
-
-#[test]
-#[ignore]
-fn debug_reference_ray() {
-    let which = std::env::var("PRISM_PROFILE").unwrap_or("vase".into());
-    let (_, profile) = profiles().into_iter().find(|(n, _)| n.starts_with(&which)).unwrap();
-    let reference = ConeReference::new(&profile, 1 << 16);
-    let v: Vec<f32> = std::env::var("PRISM_RAY").unwrap().split(',').map(|x| x.trim().parse().unwrap()).collect();
-    let (o, d) = (Vec3A::new(v[0], v[1], v[2]).as_dvec3(), Vec3A::new(v[3], v[4], v[5]).as_dvec3());
-    let rr = RingRay::new(o, d);
-    for (i, (ring, lo, hi)) in reference.blocks.iter().enumerate() {
-        let iv = rr.intervals(ring, 0.0, f64::INFINITY);
-        if iv.1 > 0 {
-            println!("block {i} {ring:?} {:?}", &iv.0[..iv.1]);
-            for &(a, b) in &reference.chords[*lo..*hi] {
-                if let Some(h) = frustum_hit(a, b, o, d, 0.0, f64::INFINITY) {
-                    println!("   chord {a:?} {b:?} -> {h:?}");
-                }
-            }
-        }
-    }
-}
-
-#[test]
-#[ignore]
-fn debug_on_surface() {
-    let which = std::env::var("PRISM_PROFILE").unwrap_or("vase".into());
-    let (_, profile) = profiles().into_iter().find(|(n, _)| n.starts_with(&which)).unwrap();
-    let shape = Revolution::new(profile.clone(), DAffine3::IDENTITY, 0, NO_LIGHT);
-    let reference = ConeReference::new(&profile, 1 << 16);
-    let near = 1e-4 * reference.size;
-    for (o, d) in revolution_rays(&profile, RayClass::OnSurface, 20000, 1) {
-        let ray = Ray::new(Vec3A::from(o.as_vec3()), Vec3A::from(d.as_vec3()));
-        let (o, d) = (ray.origin.as_dvec3(), ray.dir.as_dvec3());
-        let exact = shape.intersect(&ray);
-        if exact.is_some_and(|h| (h.t as f64) < near) {
-            continue;
-        }
-        let r = reference.nearest(o, d, near, f64::INFINITY);
-        let bad = match (exact, r) {
-            (Some(h), Some((t, c))) => (h.t as f64 - t).abs() > 1e-4 * reference.size && c >= 1e-3,
-            (None, Some((_, c))) => c >= 1e-3,
-            _ => false,
-        };
-        if bad {
-            println!("{},{},{},{},{},{}\n  exact {exact:?}\n  ref {r:?}", o.x, o.y, o.z, d.x, d.y, d.z);
         }
     }
 }
@@ -858,59 +756,6 @@ fn measure_patch_failures_over_a_million_rays_per_class() {
                 "| {name} | {class:?} | {} | {} | {} | {} | {} | {} | {} | {} | {:.1e} |",
                 t.rays, t.hits, t.missed, t.spurious, t.wrong_root, t.acne, t.ambiguous, t.self_hits, t.max_err
             );
-        }
-    }
-}
-
-#[test]
-#[ignore]
-fn debug_patch() {
-    let idx: usize = std::env::var("PRISM_PATCH").ok().and_then(|v| v.parse().ok()).unwrap_or(0);
-    let (_, points) = patches().into_iter().nth(idx).unwrap();
-    let shape = prism::shapes::BezierPatch::new(points, 0, NO_LIGHT);
-    let app = crate::accel::setup_ron(&patch_scene(&points, Some(512)), prism::settings::AccelKind::Bvh);
-    let reference = crate::accel::scene(&app);
-    let mut shown = 0;
-    let mut rng = Rng::new(1, 2000);
-    for (o, d) in patch_rays(&points, RayClass::Random, 2000, 1) {
-        let ray = Ray::new(Vec3A::from(o.as_vec3()), Vec3A::from(d.as_vec3()));
-        let Some(h) = shape.intersect(&ray) else { continue };
-        let q = shape.surface(&ray, &h);
-        let ray = prism::geometry::spawn_ray(q.p, q.p_err, q.n, warp::uniform_sphere(rng.next_2d()));
-        let e = shape.intersect(&ray);
-        let r0 = Ray::new(ray.origin + ray.dir * 3e-5, ray.dir);
-        let r = reference.intersect(&r0);
-        let bad = match (e, r) {
-            (Some(e), Some(r)) => (e.t - r.t - 3e-5).abs() > 3e-4,
-            (None, None) => false,
-            _ => true,
-        };
-        if bad && shown < 6 {
-            shown += 1;
-            let s = r.map(|r| reference.prims.surface(&r0, &r));
-            println!("{:?},{:?}\n  exact {e:?}\n  ref {:?} uv {:?} cos {:?}", ray.origin, ray.dir, r.map(|r| r.t + 3e-5), s.map(|s| s.uv), s.map(|s| s.ng.dot(ray.dir)));
-        }
-    }
-}
-
-#[test]
-#[ignore]
-fn debug_patch_random() {
-    let idx: usize = std::env::var("PRISM_PATCH").ok().and_then(|v| v.parse().ok()).unwrap_or(0);
-    let (_, points) = patches().into_iter().nth(idx).unwrap();
-    println!("{points:?}");
-    let shape = prism::shapes::BezierPatch::new(points, 0, NO_LIGHT);
-    let app = crate::accel::setup_ron(&patch_scene(&points, Some(512)), prism::settings::AccelKind::Bvh);
-    let reference = crate::accel::scene(&app);
-    let mut shown = 0;
-    for (o, d) in patch_rays(&points, RayClass::Random, 20000, 1) {
-        let ray = Ray::new(Vec3A::from(o.as_vec3()), Vec3A::from(d.as_vec3()));
-        let e = shape.intersect(&ray);
-        let r = reference.intersect(&ray);
-        if e.is_some() && r.is_none() && shown < 6 {
-            shown += 1;
-            let q = shape.surface(&ray, &e.unwrap());
-            println!("{:?},{:?}\n  exact {e:?} cos {} p {:?}", ray.origin, ray.dir, q.n.dot(ray.dir), q.p);
         }
     }
 }

@@ -7,6 +7,7 @@ mod accel;
 mod analytic;
 mod converge;
 mod curve_stability;
+mod curves;
 mod debug;
 mod determinism;
 mod envlight;

@@ -66,7 +66,8 @@ impl PatchLeaf {
         if n == DVec3::ZERO {
             n = DVec3::Z;
         }
-        let (lo, hi) = c.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| (a.min(n.dot(*p)), b.max(n.dot(*p))));
+        let (lo, hi) =
+            c.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| (a.min(n.dot(*p)), b.max(n.dot(*p))));
         PatchLeaf { u0: dom.0, u1: dom.1, v0: dom.2, v1: dom.3, center, su, sv, n, lo: lo - pad, hi: hi + pad }
     }
 

@@ -339,7 +339,7 @@ fn isolate_crossings(leaf: &Leaf, ray: &RingRay, t0: f64, t1: f64, out: &mut [f6
     let (ax, ay) = (sx * a.x, a.y);
     let (ex, ey) = (sx * b.x - ax, b.y - ay);
     let len = (ex * ex + ey * ey).sqrt();
-    if len == 0.0 || !(t1 > t0) {
+    if len == 0.0 || t1 <= t0 || t1.is_nan() || t0.is_nan() {
         return 0;
     }
     let (e, m) = ((ex / len, ey / len), (-ey / len, ex / len));

@@ -291,14 +291,24 @@ impl Parser<'_> {
     }
 
     fn materials(&mut self) -> Result<Vec<MaterialTxt>> {
-        let m = self.counted_block("Materials", "numMaterials", &["Material", "PhongMaterial"], |p, kind| {
+        let mut so_far: Vec<MaterialTxt> = Vec::new();
+        let kinds = ["Material", "PhongMaterial", "Checkerboard", "Noise", "Marble", "Wood"];
+        let m = self.counted_block("Materials", "numMaterials", &kinds, |p, kind| {
+            if kind != "Material" && kind != "PhongMaterial" {
+                let m = p.procedural_material(kind, &so_far)?;
+                so_far.push(m.clone());
+                return Ok(m);
+            }
             p.expect("{", &format!("after {kind}"))?;
             let mut m = MaterialTxt::default();
             loop {
                 let t = p.token(&format!("a property or `}}` in {kind}"))?;
                 let what = format!("`{}` of {kind}", t.text);
                 match t.text.as_str() {
-                    "}" => return Ok(m),
+                    "}" => {
+                        so_far.push(m.clone());
+                        return Ok(m);
+                    }
                     "diffuseColor" => m.diffuse = p.vec3(&what)?,
                     "specularColor" => m.specular = p.vec3(&what)?,
                     "exponent" => m.exponent = p.float(&what)?,
@@ -324,6 +334,72 @@ impl Parser<'_> {
         })?;
         self.num_materials = Some(m.len());
         Ok(m)
+    }
+
+    /// A solid-texture material of assignments 6-8 (`Checkerboard`, `Noise`, `Marble`, `Wood`: a transform, two
+    /// `materialIndex` entries and parameters). Until solid textures exist, it stands in as the mean of its two
+    /// materials (which must be defined before it), with a warning.
+    fn procedural_material(&mut self, kind: &str, so_far: &[MaterialTxt]) -> Result<MaterialTxt> {
+        self.expect("{", &format!("after {kind}"))?;
+        let mut refs = Vec::new();
+        loop {
+            let t = self.token(&format!("a property or `}}` in {kind}"))?;
+            match t.text.as_str() {
+                "}" => break,
+                "Transform" => {
+                    // Skip the texture transform's block.
+                    self.expect("{", "after Transform")?;
+                    let mut depth = 1;
+                    while depth > 0 {
+                        let u = self.token(&format!("`}}` to close the Transform of {kind}"))?;
+                        depth += match u.text.as_str() {
+                            "{" => 1,
+                            "}" => -1,
+                            _ => 0,
+                        };
+                    }
+                }
+                "materialIndex" => {
+                    let i = self.int(&format!("`materialIndex` of {kind}"))?;
+                    let m = so_far.get(i).ok_or_else(|| {
+                        self.error(format!(
+                            "{kind}: materialIndex {i} must name a material defined before it ({} so far)",
+                            so_far.len()
+                        ))
+                    })?;
+                    refs.push(m.clone());
+                }
+                "octaves" | "frequency" | "amplitude" => {
+                    self.float(&format!("`{}` of {kind}", t.text))?;
+                }
+                other => {
+                    return Err(self.error_at(
+                        t.line,
+                        t.col,
+                        format!(
+                            "unknown keyword `{other}` in {kind} (expected Transform, materialIndex, octaves, \
+                             frequency or amplitude)"
+                        ),
+                    ));
+                }
+            }
+        }
+        if refs.len() != 2 {
+            return Err(self.error(format!("{kind} needs two materialIndex entries, found {}", refs.len())));
+        }
+        eprintln!(
+            "warning: {}: {kind} (a solid texture) is rendered as the mean of its two materials",
+            self.file.display()
+        );
+        let (a, b) = (&refs[0], &refs[1]);
+        Ok(MaterialTxt {
+            diffuse: 0.5 * (a.diffuse + b.diffuse),
+            specular: 0.5 * (a.specular + b.specular),
+            exponent: 0.5 * (a.exponent + b.exponent),
+            reflective: 0.5 * (a.reflective + b.reflective),
+            transparent: 0.5 * (a.transparent + b.transparent),
+            ior: 0.5 * (a.ior + b.ior),
+        })
     }
 
     fn group(&mut self, line: usize) -> Result<ObjectTxt> {

@@ -197,7 +197,8 @@ pub fn parse_splines(text: &str, file: &Path) -> Result<Vec<SplineTxt>> {
         out.push(item);
     }
     if out.len() != n {
-        return Err(p.eof(&format!("{n} splines (num_splines), found {}", out.len())));
+        let (line, col) = p.tokens.last().map_or((1, 1), |t| (t.line, t.col + t.text.len()));
+        return Err(p.err(line, col, format!("num_splines {n} but the file ends after {} of them", out.len())));
     }
     Ok(out)
 }
