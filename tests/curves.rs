@@ -460,3 +460,53 @@ fn every_assignment_8_scene_renders_with_its_course_mesh_and_with_exact_surfaces
         }
     }
 }
+
+#[test]
+fn curved_area_lights_sample_by_area_with_the_pdf_a_ray_hitting_the_sample_reports() {
+    // The teapot's body, lid and a spout patch as emitters seen from outside.
+    let text = format!(
+        "(camera: (), entities: [(shape: Splines(path: \"{}\"), light: Area(radiance: (1, 1, 1), two_sided: true))])",
+        data("mit6837/assignment8/spline8_09_teapot.txt").display()
+    );
+    let mut app = app_from_ron(&text, Overrides::default());
+    app.setup().unwrap();
+    let scene = app.resources.scene.as_ref().unwrap();
+    assert_eq!(scene.lights.lights.len(), 10);
+    let p = Vec3A::new(0.5, 5.0, 6.0);
+    let mut rng = Rng::new(3, 1);
+    for (slot, light) in scene.lights.lights.iter().enumerate() {
+        let prism::lights::LightSource::Area(a) = light else { panic!("an area light") };
+        let (mut inv_pdf_area, mut n) = (0.0f64, 0);
+        let mut checked = 0;
+        for _ in 0..4000 {
+            let Some(ls) = a.sample(&scene.prims, p, rng.next_2d()) else { continue };
+            // Convert back to area measure: the Monte Carlo mean of 1 / pdf_area is the area.
+            let cos = ls.wi.dot(ls.n).abs() as f64;
+            inv_pdf_area += (ls.dist as f64).powi(2) / (ls.pdf as f64 * cos);
+            n += 1;
+            // The ray towards the sample hits the light there, and the light's pdf for that hit is the sample's
+            // within 1% (away from grazing views, where the pdf's 1 / cos magnifies the hit's rounding).
+            let ray = Ray::with_tmax(p, ls.wi, ls.dist * 1.001);
+            if cos > 0.05
+                && let Some(hit) = scene.trace(&ray)
+                && hit.light as usize == slot
+                && (hit.p - ls.p).length() < 1e-4
+            {
+                let pdf = a.pdf(&scene.prims, p, &hit);
+                assert!(
+                    (pdf - ls.pdf).abs() <= 1e-2 * ls.pdf,
+                    "pdf {pdf} at the hit, {} sampled (slot {slot}, hit {hit:?}, sample {ls:?})",
+                    ls.pdf
+                );
+                checked += 1;
+            }
+        }
+        assert!(checked > 100, "only {checked} samples visible");
+        let area = inv_pdf_area / 4000.0;
+        let expected = a.area(&scene.prims) as f64;
+        assert!(
+            (area - expected).abs() < 0.05 * expected,
+            "Monte Carlo area {area}, quadrature {expected} ({n} samples)"
+        );
+    }
+}

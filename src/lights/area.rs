@@ -1,9 +1,11 @@
-//! Area lights: an emissive triangle set (quad, mesh, triangle) or sphere.
+//! Area lights: an emissive triangle set (quad, mesh, triangle), sphere, or curved surface (revolution, Bézier
+//! patch; sampled by area through `shapes::area_sampling` with the exact pdf).
 
 use super::LightSample;
 use crate::math::Frame;
 use crate::primitives::{EntityPrims, Primitives, SurfaceHit, interpolation_error, sphere_point_error};
 use crate::sampling::warp;
+use crate::shapes::area_sampling::ParamAreaSampler;
 use glam::{Vec2, Vec3, Vec3A};
 use std::f32::consts::PI;
 
@@ -14,6 +16,9 @@ pub enum AreaShape {
     Triangles { first: u32, count: u32, cdf: Vec<f32>, normals: Vec<Vec3A>, area: f32 },
     /// Sphere `index` of the primitives.
     Sphere { index: u32 },
+    /// A curved analytic primitive `prim` (revolution, patch): a point of its parameter square drawn by
+    /// `sampler`, density by area `p(u, v) / |dp/du x dp/dv|`.
+    Curved { prim: u32, sampler: ParamAreaSampler },
 }
 
 #[derive(Clone, Debug)]
@@ -29,9 +34,16 @@ fn tri_area(t: &[Vec3A; 3]) -> f32 {
 
 impl AreaLight {
     pub fn new(prims: &Primitives, ep: &EntityPrims, radiance: Vec3, two_sided: bool) -> Self {
-        let shape = match ep.sphere {
-            Some(index) => AreaShape::Sphere { index },
-            None => {
+        let shape = match (ep.sphere, ep.curved) {
+            (Some(index), _) => AreaShape::Sphere { index },
+            (None, Some(k)) => {
+                let prim = prims.num_tris() + k;
+                let sampler = ParamAreaSampler::new(|u, v| {
+                    prims.analytic_point_at(prim, Vec2::new(u, v)).map_or(0.0, |q| q.dpdu.cross(q.dpdv).length())
+                });
+                AreaShape::Curved { prim, sampler }
+            }
+            (None, None) => {
                 let tris = &prims.tris[ep.first_tri as usize..(ep.first_tri + ep.tri_count) as usize];
                 let mut acc = 0.0f64;
                 let mut cdf: Vec<f32> = tris
@@ -58,6 +70,7 @@ impl AreaLight {
     pub fn area(&self, prims: &Primitives) -> f32 {
         match &self.shape {
             AreaShape::Triangles { area, .. } => *area,
+            AreaShape::Curved { sampler, .. } => sampler.area(),
             AreaShape::Sphere { index } => {
                 let s = &prims.spheres[*index as usize];
                 match &s.transform {
@@ -102,6 +115,15 @@ impl AreaLight {
 
     pub fn sample(&self, prims: &Primitives, p: Vec3A, u: Vec2) -> Option<LightSample> {
         match &self.shape {
+            AreaShape::Curved { prim, sampler } => {
+                let (uv, pdf_uv) = sampler.sample(u);
+                let q = prims.analytic_point_at(*prim, uv)?;
+                let jac = q.dpdu.cross(q.dpdv).length();
+                if jac.is_nan() || jac <= 0.0 {
+                    return None;
+                }
+                self.sample_at_point(p, q.p, q.p_err, q.n, pdf_uv / jac)
+            }
             AreaShape::Triangles { first, count, cdf, normals, area } => {
                 // Pick a triangle by area, then reuse the remainder of u.x for the point inside it.
                 let k = cdf.partition_point(|&c| c <= u.x).min(*count as usize - 1);
@@ -180,6 +202,10 @@ impl AreaLight {
         }
         match &self.shape {
             AreaShape::Triangles { area, .. } => dist2 / (cos_l * area),
+            AreaShape::Curved { sampler, .. } => {
+                let jac = hit.dpdu.cross(hit.dpdv).length();
+                if jac > 0.0 { dist2 / cos_l * sampler.pdf(hit.uv) / jac } else { 0.0 }
+            }
             AreaShape::Sphere { index } => {
                 let s = &prims.spheres[*index as usize];
                 match &s.transform {

@@ -6,7 +6,9 @@
 //! multiple importance sampling needs. Sampling schemes:
 //! - triangle sets: a triangle chosen in proportion to its area, then a uniform point on it;
 //! - spheres (world-space): uniform in the cone the sphere subtends (pbrt's scheme), uniform by area from inside;
-//! - ellipsoids (spheres under non-uniform scale): uniform on the object-space sphere, with the exact area Jacobian.
+//! - ellipsoids (spheres under non-uniform scale): uniform on the object-space sphere, with the exact area Jacobian;
+//! - curved surfaces (revolutions, Bézier patches): a cell of their parameter square by approximate area, a uniform
+//!   point in it, pdf `p(u, v) / |dp/du x dp/dv|` exactly (`shapes/area_sampling.rs`).
 
 mod area;
 mod environment;

@@ -2,7 +2,9 @@
 //!
 //! The parameter square `[0,1]^2` (the surface's uv) is cut into `n x n` cells; a cell is chosen in proportion to
 //! its approximate area (the area element `|dp/du x dp/dv|` averaged over 3 x 3 points of the cell, times the
-//! cell's size), then a uniform point in the cell. The density in parameter space is therefore piecewise
+//! cell's size), then a uniform point in the cell. The choice is hierarchical (a row by the marginal distribution
+//! with `u.y`, a column by the row's conditional distribution with `u.x`, each coordinate rescaled and reused for
+//! the point in the cell), so stratified sample points stay stratified over the surface. The density in parameter space is therefore piecewise
 //! constant and known exactly, `p(u, v) = P(cell) / cell size`, and the density by area on the surface is
 //! `p(u, v) / |dp/du x dp/dv|` at the point: exact for the point actually sampled (no approximation enters the
 //! pdf, only the choice of cells, which affects variance, not bias). `pdf` of a point hit by a ray uses the hit's
@@ -17,10 +19,40 @@ pub const CELLS: usize = 32;
 #[derive(Clone, Debug)]
 pub struct ParamAreaSampler {
     n: usize,
-    /// Cumulative cell probabilities, row-major (v rows, u columns); the last is 1.
-    cdf: Vec<f32>,
+    /// Cumulative row probabilities (the last is 1).
+    row_cdf: Vec<f32>,
+    /// Per row, the cumulative conditional probabilities of its cells (the last of each row is 1).
+    col_cdf: Vec<f32>,
+    /// Probability of each cell, row-major (v rows, u columns).
     prob: Vec<f32>,
     area: f32,
+}
+
+/// Index `k` of the bin of a cumulative distribution containing `x`, and `x` rescaled into that bin.
+fn pick(cdf: &[f32], x: f32) -> (usize, f32) {
+    let k = cdf.partition_point(|&c| c <= x).min(cdf.len() - 1);
+    let lo = if k == 0 { 0.0 } else { cdf[k - 1] };
+    let w = cdf[k] - lo;
+    let r = if w > 0.0 { ((x - lo) / w).clamp(0.0, 1.0 - f32::EPSILON) } else { 0.5 };
+    (k, r)
+}
+
+/// Normalised running sums of `w` (uniform when they sum to zero).
+fn cumulative(w: &[f64]) -> Vec<f32> {
+    let total: f64 = w.iter().sum();
+    let mut acc = 0.0;
+    let mut out: Vec<f32> = w
+        .iter()
+        .enumerate()
+        .map(|(_, x)| {
+            acc += if total > 0.0 { *x } else { 1.0 };
+            (acc / if total > 0.0 { total } else { w.len() as f64 }) as f32
+        })
+        .collect();
+    if let Some(last) = out.last_mut() {
+        *last = 1.0;
+    }
+    out
 }
 
 impl ParamAreaSampler {
@@ -45,20 +77,13 @@ impl ParamAreaSampler {
         }
         let total: f64 = weights.iter().sum();
         // A surface of zero measured area still gets a valid (uniform) distribution.
-        let (weights, total) = if total > 0.0 { (weights, total) } else { (vec![1.0; n * n], (n * n) as f64) };
-        let mut acc = 0.0;
-        let mut cdf = Vec::with_capacity(n * n);
-        let mut prob = Vec::with_capacity(n * n);
-        for w in &weights {
-            acc += w;
-            cdf.push((acc / total) as f32);
-            prob.push((w / total) as f32);
-        }
-        if let Some(last) = cdf.last_mut() {
-            *last = 1.0;
-        }
-        let area = if total > 0.0 { weights.iter().sum::<f64>() as f32 } else { 0.0 };
-        ParamAreaSampler { n, cdf, prob, area }
+        let w = if total > 0.0 { weights.clone() } else { vec![1.0; n * n] };
+        let wt: f64 = w.iter().sum();
+        let rows: Vec<f64> = w.chunks(n).map(|r| r.iter().sum()).collect();
+        let row_cdf = cumulative(&rows);
+        let col_cdf = w.chunks(n).flat_map(cumulative).collect();
+        let prob = w.iter().map(|x| (x / wt) as f32).collect();
+        ParamAreaSampler { n, row_cdf, col_cdf, prob, area: total as f32 }
     }
 
     /// Approximate total area (quadrature).
@@ -68,13 +93,11 @@ impl ParamAreaSampler {
 
     /// A parameter point `(u, v)` and its density in parameter space.
     pub fn sample(&self, u: Vec2) -> (Vec2, f32) {
-        let k = self.cdf.partition_point(|&c| c <= u.x).min(self.cdf.len() - 1);
-        let lo = if k == 0 { 0.0 } else { self.cdf[k - 1] };
-        let ux = ((u.x - lo) / (self.cdf[k] - lo).max(f32::MIN_POSITIVE)).clamp(0.0, 1.0 - f32::EPSILON);
-        let (i, j) = (k / self.n, k % self.n);
+        let (i, ry) = pick(&self.row_cdf, u.y);
+        let (j, rx) = pick(&self.col_cdf[i * self.n..(i + 1) * self.n], u.x);
         let h = 1.0 / self.n as f32;
-        let p = Vec2::new((j as f32 + ux) * h, (i as f32 + u.y.clamp(0.0, 1.0 - f32::EPSILON)) * h);
-        (p, self.prob[k] * (self.n * self.n) as f32)
+        let p = Vec2::new((j as f32 + rx) * h, (i as f32 + ry) * h);
+        (p, self.pdf(p))
     }
 
     /// Density in parameter space at `(u, v)`.
