@@ -43,8 +43,7 @@ fn cumulative(w: &[f64]) -> Vec<f32> {
     let mut acc = 0.0;
     let mut out: Vec<f32> = w
         .iter()
-        .enumerate()
-        .map(|(_, x)| {
+        .map(|x| {
             acc += if total > 0.0 { *x } else { 1.0 };
             (acc / if total > 0.0 { total } else { w.len() as f64 }) as f32
         })
