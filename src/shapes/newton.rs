@@ -7,7 +7,7 @@
 //! falls back to damped least squares (Levenberg–Marquardt, `(J^T J + mu I) x = -J^T F`), which still converges
 //! in the well-determined directions (at a pole: the profile parameter and `t`; the angle is irrelevant there).
 //! A step longer than the surface's trust region (`ParamSurface::max_step`) is scaled down to it, and a step that
-//! does not reduce the residual is halved (up to 11 times). Everything is f64: the roots are accurate
+//! does not reduce the residual is halved (up to 7 times). Everything is f64: the roots are accurate
 //! to about 1e-13 of the object's size, far below the f32 rounding of the hit distance Prism reports.
 
 use glam::DVec3;
@@ -98,7 +98,7 @@ pub fn solve(
         // Backtrack while the residual grows.
         let mut scale = 1.0;
         let mut improved = false;
-        for _ in 0..12 {
+        for _ in 0..8 {
             let (na, nb) = surf.clamp(a + step.x * scale, b + step.y * scale);
             let nt = t + step.z * scale;
             let (ns, nsa, nsb) = surf.eval(na, nb);

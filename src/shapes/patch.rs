@@ -239,7 +239,7 @@ impl BezierPatch {
     /// Nearest root `(u, v, t)` in `(tmin, tmax)`; with `any`, the first one found.
     fn query(&self, o: DVec3, d: DVec3, tmax: f64, any: bool) -> Option<(f64, f64, f64)> {
         let scale = self.size.max((o - self.ctrl[0]).length() * 1e-3);
-        let tol = NewtonTol { stop: 1e-13 * scale, accept: 1e-9 * scale, max_iter: 24 };
+        let tol = NewtonTol { stop: 1e-13 * scale, accept: 1e-9 * scale, max_iter: 16 };
         let dl = d.length();
         let tmin = 4e-10 * scale / dl;
         let inv = DVec3::ONE / d;

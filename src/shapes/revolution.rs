@@ -142,9 +142,11 @@ impl Revolution {
         let ray = RingRay::new(o, d);
         let surf = self.surface_fn();
         let scale = self.size.max(o.length() * 1e-3);
-        let tol = NewtonTol { stop: 1e-13 * scale, accept: 1e-9 * scale, max_iter: 24 };
+        let tol = NewtonTol { stop: 1e-13 * scale, accept: 1e-9 * scale, max_iter: 16 };
         let dl = d.length();
         let tmin = 4e-10 * scale / dl;
+        // Roots this close to the origin are the surface a ray starts on.
+        let self_eps = 1e-6 * scale / dl;
         let mut best: Option<(f64, f64, f64)> = None;
         let mut best_t = tmax;
         let best_cell = std::cell::Cell::new(tmax);
@@ -184,9 +186,9 @@ impl Revolution {
                     if t0 > best_t {
                         break;
                     }
-                    // The root Newton reaches from `t`: kept if nearest; `Some(root)` if it is this leaf's root
-                    // within the span.
-                    let mut try_seed = |t: f64| -> Option<(f64, f64, f64)> {
+                    // The root Newton reaches from `t`: kept if nearest; `Some((root, at_origin))` if it is this
+                    // leaf's root within the span, usable or at the origin of a ray starting on the surface.
+                    let mut try_seed = |t: f64| -> Option<((f64, f64, f64), bool)> {
                         let r = solve(&surf, o, d, seed_at(leaf, &ray, t), &tol);
                         let (s, th, tr) = r?;
                         if tr > tmin && tr < best_t {
@@ -195,12 +197,18 @@ impl Revolution {
                         }
                         let slack = 1e-9 * (leaf.s1 - leaf.s0);
                         let w = 1e-6 * (t1 - t0) + tol.accept / dl;
-                        // Only a usable root counts (not one at the origin of a ray starting on the surface).
-                        (tr > tmin && s >= leaf.s0 - slack && s <= leaf.s1 + slack && tr >= t0 - w && tr <= t1 + w)
-                            .then_some((s, th, tr))
+                        // The root at the origin of a ray starting on the surface counts for every leaf near it.
+                        let at_origin = tr.abs() <= self_eps;
+                        (at_origin
+                            || (s >= leaf.s0 - slack
+                                && s <= leaf.s1 + slack
+                                && tr > tmin
+                                && tr >= t0 - w
+                                && tr <= t1 + w))
+                            .then_some(((s, th, tr), at_origin))
                     };
                     // Seeds: the chord's roots in the span, else its middle.
-                    let mut own: Option<(f64, f64, f64)> = None;
+                    let mut own: Option<((f64, f64, f64), bool)> = None;
                     let mut seeded = false;
                     for &t in &roots[..nroots] {
                         if t >= t0 && t <= t1 {
@@ -214,9 +222,25 @@ impl Revolution {
                     }
                     let w = t1 - t0;
                     match own {
+                        // The ray starts on this leaf: it meets it again only where the surface curves back.
+                        Some(((s, th, t), true)) => {
+                            let (dt, _) = other_root_offset(&surf, s, th, d).unwrap_or((f64::INFINITY, 0.0));
+                            let again = dt > 0.0 && t + dt < t1 && try_seed(t + dt).is_some_and(|r| !r.1);
+                            // Otherwise look for a crossing beyond the origin in one dimension (thoroughly when the
+                            // ray leaves nearly along the band).
+                            let from = t0.max(4.0 * self_eps);
+                            if !again && from < t1 {
+                                let samples = if runs_along(leaf, &ray, from, t1) { 9 } else { 3 };
+                                let mut seeds = [0.0f64; 4];
+                                let k = isolate_crossings(leaf, &ray, from, t1, samples, &mut seeds);
+                                for &t in &seeds[..k] {
+                                    try_seed(t);
+                                }
+                            }
+                        }
                         // A root well inside the span may hide a nearer one: a ray cutting through a band twice (try
                         // from the span's start), or grazing it (try where the surface's curvature brings it back).
-                        Some((s, th, t)) => {
+                        Some(((s, th, t), false)) => {
                             let (dt, cos) = other_root_offset(&surf, s, th, d).unwrap_or((f64::INFINITY, 0.0));
                             if dt < 0.0 && t + dt > t0 {
                                 try_seed(t + dt);
@@ -234,11 +258,11 @@ impl Revolution {
                                     break;
                                 }
                             }
-                            // Still nothing: isolate the leaf's crossings along the span in one dimension (a ray
-                            // grazing the band: two close roots that seeds far from them miss).
-                            if !found {
+                            // Still nothing, and the ray runs along the leaf (grazing the band: two close roots
+                            // that seeds far from them miss): isolate its crossings in one dimension.
+                            if !found && runs_along(leaf, &ray, t0, t1) {
                                 let mut seeds = [0.0f64; 4];
-                                let k = isolate_crossings(leaf, &ray, t0, t1, &mut seeds);
+                                let k = isolate_crossings(leaf, &ray, t0, t1, 9, &mut seeds);
                                 for &t in &seeds[..k] {
                                     try_seed(t);
                                 }
@@ -300,39 +324,77 @@ fn seed_at(leaf: &Leaf, ray: &RingRay, t: f64) -> (f64, f64, f64) {
     (leaf.s0 + w * (leaf.s1 - leaf.s0), theta, t)
 }
 
-/// The `w` in `[0, 1]` where the Bernstein cubic with coefficients `l` takes the value `target` (bisection; the
-/// coefficients of a flat leaf increase, so the cubic is monotone), clamped to the ends.
+/// The `w` in `[0, 1]` where the Bernstein cubic with coefficients `l` takes the value `target` (the
+/// coefficients of a flat leaf increase, so the cubic is monotone): Newton steps kept inside a shrinking
+/// bisection bracket, clamped to the ends.
 fn invert_cubic(l: &[f64; 4], target: f64) -> f64 {
     let f = |w: f64| {
         let m = 1.0 - w;
-        l[0] * m * m * m + 3.0 * l[1] * m * m * w + 3.0 * l[2] * m * w * w + l[3] * w * w * w
+        l[0] * m * m * m + 3.0 * l[1] * m * m * w + 3.0 * l[2] * m * w * w + l[3] * w * w * w - target
+    };
+    let df = |w: f64| {
+        let m = 1.0 - w;
+        3.0 * ((l[1] - l[0]) * m * m + 2.0 * (l[2] - l[1]) * m * w + (l[3] - l[2]) * w * w)
     };
     let increasing = l[3] >= l[0];
-    let below = |v: f64| if increasing { v < target } else { v > target };
-    if !below(l[0]) {
+    let below = |v: f64| if increasing { v < 0.0 } else { v > 0.0 };
+    if !below(f(0.0)) {
         return 0.0;
     }
-    if below(l[3]) {
+    if below(f(1.0)) {
         return 1.0;
     }
     let (mut lo, mut hi) = (0.0, 1.0);
+    let mut w = (target - l[0]) / (l[3] - l[0]);
     for _ in 0..40 {
-        let mid = 0.5 * (lo + hi);
-        if below(f(mid)) {
-            lo = mid;
-        } else {
-            hi = mid;
+        if !(w > lo && w < hi) {
+            w = 0.5 * (lo + hi);
         }
+        let v = f(w);
+        if below(v) {
+            lo = w;
+        } else {
+            hi = w;
+        }
+        let dv = df(w);
+        let next = if dv != 0.0 { w - v / dv } else { 0.5 * (lo + hi) };
+        if (next - w).abs() < 1e-12 || hi - lo < 1e-12 {
+            w = next;
+            break;
+        }
+        w = next;
     }
-    0.5 * (lo + hi)
+    w.clamp(lo, hi)
+}
+
+/// Does the ray, over `[t0, t1]`, travel along the leaf's chord more than 4 times the leaf's thickness (the
+/// spread of its control points across the chord)? A ray crossing the band transversally does not: one seed
+/// finds its root.
+fn runs_along(leaf: &Leaf, ray: &RingRay, t0: f64, t1: f64) -> bool {
+    let (a, b) = (leaf.ctrl[0], leaf.ctrl[3]);
+    let sx = if a.x + b.x < 0.0 { -1.0 } else { 1.0 };
+    let (ex, ey) = (sx * (b.x - a.x), b.y - a.y);
+    let len = (ex * ex + ey * ey).sqrt();
+    if len == 0.0 {
+        return true;
+    }
+    let (e, m) = ((ex / len, ey / len), (-ey / len, ex / len));
+    let mu = leaf.ctrl.map(|c| (sx * (c.x - a.x)) * m.0 + (c.y - a.y) * m.1);
+    let h = mu.iter().fold(f64::NEG_INFINITY, |x, &y| x.max(y)) - mu.iter().fold(f64::INFINITY, |x, &y| x.min(y));
+    let along = |t: f64| {
+        let rho = ray.rho2(t).max(0.0).sqrt();
+        rho * e.0 + (ray.o.y + t * ray.d.y) * e.1
+    };
+    (along(t1) - along(t0)).abs() > 4.0 * h
 }
 
 /// Where along `[t0, t1]` the ray crosses the leaf, found in one dimension: in the chord's frame the leaf is a
 /// graph `mu = phi(lambda)` (flat leaves are monotone along their chord), so `g(t) = mu(t) - phi(lambda(t))`
-/// changes sign where the ray's point in the half-plane crosses the curve. `g` is sampled at 9 points; each sign
+/// changes sign where the ray's point in the half-plane crosses the curve. `g` is sampled at `k` points (at most
+/// 9); each sign
 /// change is bisected to a root, and an interior extremum of `|g|` is searched (golden section) for a dip through
 /// zero (two close roots: a grazing ray). Writes up to 4 ray parameters, returns how many.
-fn isolate_crossings(leaf: &Leaf, ray: &RingRay, t0: f64, t1: f64, out: &mut [f64; 4]) -> usize {
+fn isolate_crossings(leaf: &Leaf, ray: &RingRay, t0: f64, t1: f64, k: usize, out: &mut [f64; 4]) -> usize {
     let (a, b) = (leaf.ctrl[0], leaf.ctrl[3]);
     let neg = a.x + b.x < 0.0;
     let sx = if neg { -1.0 } else { 1.0 };
@@ -358,7 +420,7 @@ fn isolate_crossings(leaf: &Leaf, ray: &RingRay, t0: f64, t1: f64, out: &mut [f6
         mt - bern(&mu, invert_cubic(&l, lt))
     };
     let bisect = |mut lo: f64, mut hi: f64, glo: f64| {
-        for _ in 0..50 {
+        for _ in 0..40 {
             let mid = 0.5 * (lo + hi);
             if (g(mid) > 0.0) == (glo > 0.0) {
                 lo = mid;
@@ -368,9 +430,10 @@ fn isolate_crossings(leaf: &Leaf, ray: &RingRay, t0: f64, t1: f64, out: &mut [f6
         }
         0.5 * (lo + hi)
     };
-    const K: usize = 9;
-    let ts: [f64; K] = std::array::from_fn(|i| t0 + (t1 - t0) * i as f64 / (K - 1) as f64);
-    let gs: [f64; K] = ts.map(g);
+    const MAX: usize = 9;
+    let k = k.clamp(2, MAX);
+    let ts: [f64; MAX] = std::array::from_fn(|i| t0 + (t1 - t0) * i.min(k - 1) as f64 / (k - 1) as f64);
+    let gs: [f64; MAX] = ts.map(g);
     let mut n = 0;
     let mut push = |t: f64| {
         if n < out.len() {
@@ -378,12 +441,12 @@ fn isolate_crossings(leaf: &Leaf, ray: &RingRay, t0: f64, t1: f64, out: &mut [f6
             n += 1;
         }
     };
-    for i in 0..K - 1 {
+    for i in 0..k - 1 {
         if (gs[i] > 0.0) != (gs[i + 1] > 0.0) {
             push(bisect(ts[i], ts[i + 1], gs[i]));
         }
     }
-    for i in 1..K - 1 {
+    for i in 1..k - 1 {
         let (gl, gm, gr) = (gs[i - 1], gs[i], gs[i + 1]);
         let same = (gl > 0.0) == (gm > 0.0) && (gm > 0.0) == (gr > 0.0);
         if same && gm.abs() < gl.abs() && gm.abs() < gr.abs() {
@@ -391,7 +454,7 @@ fn isolate_crossings(leaf: &Leaf, ray: &RingRay, t0: f64, t1: f64, out: &mut [f6
             let s = if gm > 0.0 { 1.0 } else { -1.0 };
             let (mut lo, mut hi) = (ts[i - 1], ts[i + 1]);
             let r = 0.618_033_988_749_895;
-            for _ in 0..40 {
+            for _ in 0..30 {
                 let (x1, x2) = (hi - r * (hi - lo), lo + r * (hi - lo));
                 if s * g(x1) < s * g(x2) {
                     hi = x2;
