@@ -15,6 +15,7 @@ mod envmap;
 mod geometry;
 mod io;
 mod mit6837;
+mod patch_stability;
 mod plugin;
 mod sampling;
 mod scenes;

@@ -8,6 +8,7 @@
 //! | `curve.rs` | piecewise cubic Bézier and uniform cubic B-spline curves: evaluation, derivatives, basis conversion, tessellation |
 //! | `sphere.rs` | spheres and ellipsoids |
 //! | `revolution.rs` | surfaces of revolution (a profile curve revolved about y), exact intersection |
+//! | `revolution_seeds.rs` | the revolution's Newton seeds: chord cones, chord projection, crossings along grazing rays |
 //! | `profile_tree.rs` | the revolution's seeding structure: rings bounding flat pieces of the profile |
 //! | `strip.rs` | a tight bound of one flat piece: its chord-aligned rectangle, revolved |
 //! | `patch.rs` | bicubic Bézier patches, exact intersection, seeding quadtree |
@@ -21,6 +22,7 @@ pub mod newton;
 pub mod patch;
 pub mod profile_tree;
 pub mod revolution;
+pub mod revolution_seeds;
 pub mod sphere;
 pub mod strip;
 pub mod tessellate;
