@@ -481,7 +481,7 @@ fn newton_on_revolutions_finds_the_nearest_root_in_every_hostile_ray_class() {
 #[test]
 #[ignore]
 fn measure_revolution_failures_over_a_million_rays_per_class() {
-    let n = std::env::var("PRISM_RAYS").ok().and_then(|v| v.parse().ok()).unwrap_or(1_000_000);
+    let n: usize = std::env::var("PRISM_RAYS").ok().and_then(|v| v.parse().ok()).unwrap_or(1_000_000);
     let profiles = profiles();
     let per = n.div_ceil(profiles.len());
     let mut totals = vec![Tally::default(); CLASSES.len()];

@@ -261,7 +261,7 @@ pub const PATCH_CLASSES: [RayClass; 4] = [RayClass::Random, RayClass::Grazing, R
 #[test]
 #[ignore]
 fn measure_patch_failures_over_a_million_rays_per_class() {
-    let n = std::env::var("PRISM_RAYS").ok().and_then(|v| v.parse().ok()).unwrap_or(1_000_000);
+    let n: usize = std::env::var("PRISM_RAYS").ok().and_then(|v| v.parse().ok()).unwrap_or(1_000_000);
     let patches = patches();
     let per = n.div_ceil(patches.len());
     let mut totals = vec![Tally::default(); PATCH_CLASSES.len()];
