@@ -303,7 +303,7 @@ pub struct Tally {
     pub self_hits: usize,
     /// Spawned rays that met a surface within 1e-4 of the size (shadow acne; counted as failures).
     pub acne: usize,
-    /// Largest |t - t_ref| / size over rays where both hit and agree.
+    /// Largest |t - t_ref| / size over rays where both hit and agree, at |cos| >= 0.01.
     pub max_err: f64,
 }
 
@@ -364,7 +364,8 @@ pub fn judge(exact: Option<(f64, f64)>, reference: Option<(f64, f64)>, size: f64
             let err = (t - tr).abs() / size;
             if err > 1e-4 + 4.0 * acc.err / (c.max(1e-12) * size) {
                 if c < graze { tally.ambiguous += 1 } else { tally.wrong_root += 1 }
-            } else if acc.err == 0.0 {
+            } else if acc.err == 0.0 && c >= 0.01 {
+                // The distance error where it is well conditioned (a grazing root moves by the error / cos).
                 tally.max_err = tally.max_err.max(err);
             }
         }
