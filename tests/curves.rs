@@ -510,3 +510,54 @@ fn curved_area_lights_sample_by_area_with_the_pdf_a_ray_hitting_the_sample_repor
         );
     }
 }
+
+#[test]
+fn prism_convert_writes_assignment_8_meshes_as_spline_shapes_tessellated_or_exact() {
+    let dir = scratch("convert8");
+    let scene = data("mit6837/assignment8/scene8_09_teapot_high.txt");
+    for (exact, expect) in [(false, "Some((curve: 30, revolution: 100, patch: 30))"), (true, "tessellation: None")] {
+        let out = dir.join(format!("teapot_{exact}.ron"));
+        let mut args = vec!["convert", scene.to_str().unwrap(), "-o", out.to_str().unwrap()];
+        if exact {
+            args.push("--exact-curves");
+        }
+        let o = prism(&args);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let text = std::fs::read_to_string(&out).unwrap();
+        assert!(text.contains("Splines(path:") && text.contains(expect), "{text}");
+        // The written scene loads (the spline path is relative to it).
+        let mut app = crate::common::app_from_file(&out, Overrides { size: Some((8, 8)), ..Default::default() });
+        app.setup().unwrap();
+        let prims = &app.resources.scene.as_ref().unwrap().prims;
+        if exact {
+            assert_eq!((prims.revolutions.len(), prims.patches.len(), prims.num_tris()), (2, 8, 0));
+        } else {
+            assert!(prims.num_tris() > 10_000 && prims.analytic.is_empty());
+        }
+    }
+}
+
+#[test]
+fn degenerate_and_extreme_curved_shapes_render_without_panics() {
+    let cases = [
+        // A profile collapsed to a point, one lying on the axis (zero area), a flat disc, a huge and a tiny vase.
+        "Revolution(profile: BSpline([(1, 1, 0), (1, 1, 0), (1, 1, 0), (1, 1, 0)]))",
+        "Revolution(profile: Bezier([(0, -1, 0), (0, 0, 0), (0, 0.5, 0), (0, 1, 0)]))",
+        "Revolution(profile: Bezier([(0, 0, 0), (0.3, 0, 0), (0.6, 0, 0), (1, 0, 0)]))",
+        "Revolution(profile: BSpline([(0, -3e20, 0), (1.5e20, -3e20, 0), (2.5e20, 4e20, 0), (2e20, -4e20, 0)]))",
+        "Revolution(profile: BSpline([(0, -3e-20, 0), (1.5e-20, -3e-20, 0), (2.5e-20, 4e-20, 0), (2e-20, -4e-20, 0)]))",
+        // A patch collapsed to a point, and one collapsed to a line.
+        "BezierPatch(points: [(1,1,1),(1,1,1),(1,1,1),(1,1,1),(1,1,1),(1,1,1),(1,1,1),(1,1,1),(1,1,1),(1,1,1),(1,1,1),(1,1,1),(1,1,1),(1,1,1),(1,1,1),(1,1,1)])",
+        "BezierPatch(points: [(0,0,0),(1,0,0),(2,0,0),(3,0,0),(0,0,0),(1,0,0),(2,0,0),(3,0,0),(0,0,0),(1,0,0),(2,0,0),(3,0,0),(0,0,0),(1,0,0),(2,0,0),(3,0,0)])",
+    ];
+    for shape in cases {
+        for accel in ["bvh", "kdtree", "grid", "brute"] {
+            let text = format!(
+                "(camera: (eye: (0, 1, 6), size: (12, 12)), render: (accel: {accel}, spp: 1, integrator: envlight(max_depth: 3)),
+                  entities: [(shape: {shape}), (light: Environment(radiance: (1, 1, 1)))])"
+            );
+            let img = render_ron(&text, spp(1));
+            assert!(img.pixels.iter().all(|p| p.is_finite()), "{shape} with {accel}");
+        }
+    }
+}

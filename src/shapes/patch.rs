@@ -7,11 +7,14 @@
 //! **Seeding structure**: a quadtree of sub-patches from de Casteljau subdivision in u and v, refined until each
 //! sub-patch's control points lie within [`FLATNESS`] of the patch size from the bilinear patch of its corners (at
 //! least [`MIN_DEPTH`], at most [`MAX_DEPTH`] levels). Each node holds the box of its control points (which
-//! contains the sub-patch: convex hull property), padded against rounding. Rays walk the boxes nearest first
-//! (slab tests in f64); in each leaf box they meet, Newton iteration on `(u, v, t)` (`newton.rs`) starts at the
-//! leaf's centre, with `t` where the ray meets the tangent plane there (a flat leaf is close to it), and again at
-//! the middle of the box interval if that fails. Any converged root with `0 < t < tmax` is a true root; the
-//! nearest is kept and boxes starting beyond it are skipped (Martin et al. 2000, "Practical Ray Tracing of
+//! contains the sub-patch: convex hull property); each leaf also the slab around its central tangent plane that
+//! holds its control points, both padded against rounding. Rays walk the boxes nearest first (slab tests in f64);
+//! in each leaf they meet, the span inside box and slab is seeded where the ray crosses the central tangent plane
+//! (projected on the leaf's parameters), else at its middle, and Newton iteration on `(u, v, t)` (`newton.rs`)
+//! runs from there. As for revolutions: a root found well inside the span or at a grazing angle is followed by a
+//! seed where the local curvature model puts the other root and one at the span's start; a span where no seed
+//! reaches the leaf's own root gets seeds across it. Any converged root with `0 < t < tmax` is a true root; the
+//! nearest is kept and boxes starting beyond it are skipped (after Martin et al. 2000, "Practical Ray Tracing of
 //! Trimmed NURBS Surfaces", without trimming).
 //!
 //! **Surface data**: `uv` is the patch parameter; `dpdu = S_u`, `dpdv = S_v`; the normal `S_u x S_v` (at a

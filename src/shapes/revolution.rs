@@ -2,14 +2,18 @@
 //! `S(s, theta) = (x(s) cos theta, y(s), x(s) sin theta)`, intersected exactly.
 //!
 //! **Intersection** (object space, f64). The ray walks the profile's ring tree (`profile_tree.rs`) nearest first;
-//! in each leaf ring it meets, Newton iteration on `(s, theta, t)` (`newton.rs`) starts from seeds taken from the
-//! leaf's chord: the ray meets the cone (cylinder, disc) that the chord sweeps in closed form (a quadratic in
-//! `t`), and each such root within the ring's intervals is a seed within the leaf's flatness of the true root;
-//! an interval with no chord root (a ray grazing the bulge of the curve beyond its chord) is seeded at its middle.
-//! Any converged root with `0 < t < tmax` is a true root and is kept if nearest; since every root lies in the ring
-//! interval of its own leaf and leaves are visited nearest first until one starts beyond the best hit, the nearest
-//! root is found whenever each leaf's Newton finds its own roots. Roots closer than `4e-10` of the object's size to
-//! the ray origin are rejected (a ray starting on the surface does not hit itself).
+//! in each leaf ring it meets, the part inside the leaf's strip (`strip.rs`), split where the ray is closest to
+//! the axis, is a *span* that holds every root of the leaf. Newton iteration on `(s, theta, t)` (`newton.rs`)
+//! starts from seeds (`revolution_seeds.rs`): the roots of the cone the leaf's chord sweeps within the span, else
+//! its middle. A root found well inside the span or at a grazing angle is followed by a seed where the local
+//! curvature model puts the other root and one at the span's start; a span where no seed reaches the leaf's own
+//! root gets seeds across it and, if the ray runs along the band, a one-dimensional isolation of its crossings; a
+//! ray starting on the surface recognises the root at its origin and looks for a crossing beyond it. Any converged
+//! root with `0 < t < tmax` is a true root and is kept if nearest; since every root lies in the span of its own
+//! leaf and leaves are visited nearest first until one starts beyond the best hit, the nearest root is found
+//! whenever each leaf's Newton finds its own roots (`tests/curve_stability.rs` counts when it does not). Roots
+//! closer than `4e-10` of the object's size to the ray origin are rejected (a ray starting on the surface does not
+//! hit itself).
 //!
 //! **Surface data.** Parameters `(s, theta)` travel in [`Hit`](crate::primitives::Hit) (`b1`, `b2`); the point is
 //! `S(s, theta)` evaluated in f64 and mapped to world space in f64, then rounded to f32, so it lies on the surface
@@ -222,6 +226,24 @@ impl Revolution {
                         own = try_seed(0.5 * (t0 + t1));
                     }
                     let w = t1 - t0;
+                    // No seed reached this leaf's root: more seeds across the span; still nothing, and the ray runs
+                    // along the leaf (grazing the band: two close roots that seeds far from them miss): isolate its
+                    // crossings in one dimension.
+                    if own.is_none() {
+                        for f in [0.05, 0.5, 0.95] {
+                            own = try_seed(t0 + f * w);
+                            if own.is_some() {
+                                break;
+                            }
+                        }
+                        if own.is_none() && runs_along(leaf, &ray, t0, t1) {
+                            let mut seeds = [0.0f64; 4];
+                            let k = isolate_crossings(leaf, &ray, t0, t1, 9, &mut seeds);
+                            for &t in &seeds[..k] {
+                                try_seed(t);
+                            }
+                        }
+                    }
                     match own {
                         // The ray starts on this leaf: it meets it again only where the surface curves back.
                         Some(((s, th, t), true)) => {
@@ -247,28 +269,23 @@ impl Revolution {
                                 try_seed(t + dt);
                             }
                             if t > t0 + 0.1 * w || cos.abs() < 0.05 {
-                                try_seed(t0 + 1e-3 * (t - t0));
-                            }
-                        }
-                        // No seed reached this leaf's root: more seeds across the span.
-                        None => {
-                            let mut found = false;
-                            for f in [0.05, 0.5, 0.95] {
-                                if try_seed(t0 + f * w).is_some() {
-                                    found = true;
-                                    break;
-                                }
-                            }
-                            // Still nothing, and the ray runs along the leaf (grazing the band: two close roots
-                            // that seeds far from them miss): isolate its crossings in one dimension.
-                            if !found && runs_along(leaf, &ray, t0, t1) {
-                                let mut seeds = [0.0f64; 4];
-                                let k = isolate_crossings(leaf, &ray, t0, t1, 9, &mut seeds);
-                                for &t in &seeds[..k] {
-                                    try_seed(t);
+                                let before = try_seed(t0 + 1e-3 * (t - t0));
+                                // Grazing, and still no nearer root: isolate crossings before it in one dimension
+                                // (near a cone apex, where the profile crosses the axis, the curvature model fails),
+                                // up to just before the root found, so that its own sign change is seen.
+                                if cos.abs() < 0.05
+                                    && before.is_none_or(|r| r.0.2 >= t)
+                                    && runs_along(leaf, &ray, t0, t)
+                                {
+                                    let mut seeds = [0.0f64; 4];
+                                    let k = isolate_crossings(leaf, &ray, t0, t - 1e-3 * (t - t0), 9, &mut seeds);
+                                    for &ts in &seeds[..k] {
+                                        try_seed(ts);
+                                    }
                                 }
                             }
                         }
+                        None => {}
                     }
                 }
                 best_cell.set(best_t);

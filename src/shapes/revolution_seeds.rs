@@ -101,9 +101,9 @@ pub fn runs_along(leaf: &Leaf, ray: &RingRay, t0: f64, t1: f64) -> bool {
 /// Where along `[t0, t1]` the ray crosses the leaf, found in one dimension: in the chord's frame the leaf is a
 /// graph `mu = phi(lambda)` (flat leaves are monotone along their chord), so `g(t) = mu(t) - phi(lambda(t))`
 /// changes sign where the ray's point in the half-plane crosses the curve. `g` is sampled at `k` points (at most
-/// 9); each sign
-/// change is bisected to a root, and an interior extremum of `|g|` is searched (golden section) for a dip through
-/// zero (two close roots: a grazing ray). Writes up to 4 ray parameters, returns how many.
+/// 9); each sign change is bisected to a root, and around each sample where `|g|` is locally smallest (the ends
+/// included) a golden-section search looks for a dip through zero (two close roots: a grazing ray). Writes up to
+/// 4 ray parameters, returns how many.
 pub fn isolate_crossings(leaf: &Leaf, ray: &RingRay, t0: f64, t1: f64, k: usize, out: &mut [f64; 4]) -> usize {
     let (a, b) = (leaf.ctrl[0], leaf.ctrl[3]);
     let neg = a.x + b.x < 0.0;
@@ -130,7 +130,7 @@ pub fn isolate_crossings(leaf: &Leaf, ray: &RingRay, t0: f64, t1: f64, k: usize,
         mt - bern(&mu, invert_cubic(&l, lt))
     };
     let bisect = |mut lo: f64, mut hi: f64, glo: f64| {
-        for _ in 0..40 {
+        for _ in 0..24 {
             let mid = 0.5 * (lo + hi);
             if (g(mid) > 0.0) == (glo > 0.0) {
                 lo = mid;
@@ -156,27 +156,32 @@ pub fn isolate_crossings(leaf: &Leaf, ray: &RingRay, t0: f64, t1: f64, k: usize,
             push(bisect(ts[i], ts[i + 1], gs[i]));
         }
     }
-    for i in 1..k - 1 {
-        let (gl, gm, gr) = (gs[i - 1], gs[i], gs[i + 1]);
-        let same = (gl > 0.0) == (gm > 0.0) && (gm > 0.0) == (gr > 0.0);
-        if same && gm.abs() < gl.abs() && gm.abs() < gr.abs() {
-            // Golden-section search for the extremum of |g| between the neighbours.
-            let s = if gm > 0.0 { 1.0 } else { -1.0 };
-            let (mut lo, mut hi) = (ts[i - 1], ts[i + 1]);
-            let r = 0.618_033_988_749_895;
-            for _ in 0..30 {
-                let (x1, x2) = (hi - r * (hi - lo), lo + r * (hi - lo));
-                if s * g(x1) < s * g(x2) {
-                    hi = x2;
-                } else {
-                    lo = x1;
-                }
+    // Local minima of |g| among the samples (the ends included: a dip may lie in the last interval) with no sign
+    // change beside them: search the neighbouring intervals for a dip through zero.
+    for i in 0..k {
+        let gm = gs[i];
+        let (l, r) = (i.saturating_sub(1), (i + 1).min(k - 1));
+        let side = |j: usize| (gs[j] > 0.0) == (gm > 0.0) && gm.abs() <= gs[j].abs();
+        if !(side(l) && side(r)) {
+            continue;
+        }
+        // Golden-section search for the extremum of g towards zero over [t_l, t_r].
+        let s = if gm > 0.0 { 1.0 } else { -1.0 };
+        let (mut lo, mut hi) = (ts[l], ts[r]);
+        let ratio = 0.618_033_988_749_895;
+        for _ in 0..30 {
+            let (x1, x2) = (hi - ratio * (hi - lo), lo + ratio * (hi - lo));
+            if s * g(x1) < s * g(x2) {
+                hi = x2;
+            } else {
+                lo = x1;
             }
-            let te = 0.5 * (lo + hi);
-            if (g(te) > 0.0) != (gm > 0.0) {
-                push(bisect(ts[i - 1], te, gl));
-                push(bisect(te, ts[i + 1], g(te)));
-            }
+        }
+        let te = 0.5 * (lo + hi);
+        let ge = g(te);
+        if (ge > 0.0) != (gm > 0.0) {
+            push(bisect(ts[l], te, gs[l]));
+            push(bisect(te, ts[r], ge));
         }
     }
     n
