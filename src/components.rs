@@ -42,6 +42,14 @@ pub enum Shape {
         uv: Option<[Vec2; 3]>,
     },
     Mesh(MeshHandle),
+    /// The surface of revolution of a profile curve in the xy-plane (z = 0) about the y axis.
+    Revolution {
+        profile: crate::shapes::Curve,
+    },
+    /// A bicubic Bézier patch: 16 control points, four rows of four (u along a row).
+    BezierPatch {
+        points: [glam::Vec3; 16],
+    },
 }
 
 /// Index of a material in the scene's material table.

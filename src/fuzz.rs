@@ -61,7 +61,7 @@ pub fn mit6837_scene(data: &[u8]) {
         return;
     }
     let converted = crate::load::with_loader_stack(|| {
-        let ron = crate::load::mit6837::to_ron(&scene, file, Path::new(NO_DIR))?.ron;
+        let ron = crate::load::mit6837::to_ron(&scene, file, Path::new(NO_DIR), false)?.ron;
         if let Err(e) = crate::load::parse_scene(&ron, file) {
             panic!("the RON written for a 6.837 scene does not parse: {e}\n{ron}");
         }

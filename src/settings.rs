@@ -332,4 +332,7 @@ pub struct Overrides {
     pub shard: Option<(u32, u32)>,
     /// The camera to render from, by name, in files that hold several (glTF).
     pub camera: Option<String>,
+    /// Render curved surfaces exactly where the scene asks for a tessellation (RON `tessellation`, the meshes
+    /// 6.837 assignment 8 scenes name).
+    pub exact_curves: bool,
 }

@@ -14,6 +14,9 @@ pub struct ConvertArgs {
     /// The RON scene to write (.ron).
     #[arg(short, long)]
     pub output: PathBuf,
+    /// Write assignment 8's meshes as the exact surfaces of their spline files (`tessellation: None`).
+    #[arg(long)]
+    pub exact_curves: bool,
 }
 
 pub fn run(args: ConvertArgs) -> anyhow::Result<()> {
@@ -42,7 +45,7 @@ pub fn run(args: ConvertArgs) -> anyhow::Result<()> {
             }
             c.ron
         } else {
-            mit6837::convert_file(&args.input, &out_dir)?.ron
+            mit6837::convert_file(&args.input, &out_dir, args.exact_curves)?.ron
         };
         parse_scene(&text, &args.output)?;
         Ok(text)

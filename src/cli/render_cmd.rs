@@ -76,6 +76,10 @@ pub struct RenderArgs {
     /// uninterrupted render bit for bit.
     #[arg(long)]
     pub resume: Option<PathBuf>,
+    /// Render curved surfaces (revolutions, Bézier patches) exactly where the scene asks for a tessellation: RON
+    /// `tessellation`, and the meshes 6.837 assignment 8 scenes name.
+    #[arg(long)]
+    pub exact_curves: bool,
 }
 
 /// `K/N` with `K < N`.
@@ -196,6 +200,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
         exposure: args.exposure,
         shard: args.shard,
         camera: args.camera.clone(),
+        exact_curves: args.exact_curves,
     };
     r.outputs = outputs.clone();
     r.resume = args.resume.clone();

@@ -1,9 +1,11 @@
-//! Area lights: an emissive triangle set (quad, mesh, triangle) or sphere (or ellipsoid), emitting radiance `L`
-//! from its front side (the side of the geometric normal) or from both sides.
+//! Area lights: an emissive triangle set (quad, mesh, triangle), sphere (or ellipsoid), or curved surface
+//! (revolution, Bézier patch), emitting radiance `L` from its front side (the side of the geometric normal) or
+//! from both sides.
 //!
 //! - Next-event estimation (`sample`/`pdf`): triangle sets by area (a triangle chosen in proportion to its area,
 //!   then a uniform point), spheres uniform in the subtended cone, ellipsoids uniform on the object-space sphere
-//!   with the exact area Jacobian.
+//!   with the exact area Jacobian, curved surfaces by area through `shapes::area_sampling` (a cell of the
+//!   parameter square by approximate area, a uniform point in it, pdf `p(u, v) / |dp/du x dp/dv|` exactly).
 //! - Emission (`sample_le`/`pdf_le`): a point uniform by area (ellipsoids: object-space uniform, with the area
 //!   Jacobian in the pdf), then a cosine-distributed direction about the normal (two-sided lights pick each side
 //!   with probability 1/2). Power `pi A L`, twice that for two-sided lights.
@@ -16,6 +18,7 @@ use crate::geometry::spawn_ray;
 use crate::math::Frame;
 use crate::primitives::{EntityPrims, Primitives, SurfaceHit, interpolation_error, sphere_point_error, sphere_uv};
 use crate::sampling::warp;
+use crate::shapes::area_sampling::ParamAreaSampler;
 use crate::texture::ImageMap;
 use glam::{Vec2, Vec3, Vec3A};
 use std::f32::consts::PI;
@@ -27,6 +30,9 @@ pub enum AreaShape {
     Triangles { first: u32, count: u32, cdf: Vec<f32>, normals: Vec<Vec3A>, area: f32 },
     /// Sphere `index` of the primitives.
     Sphere { index: u32 },
+    /// A curved analytic primitive `prim` (revolution, patch): a point of its parameter square drawn by
+    /// `sampler`, density by area `p(u, v) / |dp/du x dp/dv|`.
+    Curved { prim: u32, sampler: ParamAreaSampler },
 }
 
 #[derive(Clone, Debug)]
@@ -52,9 +58,16 @@ impl AreaLight {
         two_sided: bool,
         texture: Option<ImageMap>,
     ) -> Self {
-        let shape = match ep.sphere {
-            Some(index) => AreaShape::Sphere { index },
-            None => {
+        let shape = match (ep.sphere, ep.curved) {
+            (Some(index), _) => AreaShape::Sphere { index },
+            (None, Some(k)) => {
+                let prim = prims.num_tris() + k;
+                let sampler = ParamAreaSampler::new(|u, v| {
+                    prims.analytic_point_at(prim, Vec2::new(u, v)).map_or(0.0, |q| q.dpdu.cross(q.dpdv).length())
+                });
+                AreaShape::Curved { prim, sampler }
+            }
+            (None, None) => {
                 let tris = &prims.tris[ep.first_tri as usize..(ep.first_tri + ep.tri_count) as usize];
                 let mut acc = 0.0f64;
                 let mut cdf: Vec<f32> = tris
@@ -124,6 +137,20 @@ impl AreaLight {
                     });
                 }
             }
+            AreaShape::Curved { prim, .. } => {
+                // Midpoint rule over the parameter square, weighted by the area element.
+                for _ in 0..16 {
+                    strata(&mut |u| {
+                        if let Some(q) = prims.analytic_point_at(*prim, u) {
+                            let jac = q.dpdu.cross(q.dpdv).length() as f64;
+                            if jac.is_finite() {
+                                sum += self.radiance_at(u).as_dvec3() * jac;
+                                weight += jac;
+                            }
+                        }
+                    });
+                }
+            }
         }
         let mean = if weight > 0.0 { (sum / weight).as_vec3() } else { Vec3::ZERO };
         // The mean relative to the constant factor (the factor itself enters `power` separately).
@@ -139,6 +166,7 @@ impl AreaLight {
     pub fn area(&self, prims: &Primitives) -> f32 {
         match &self.shape {
             AreaShape::Triangles { area, .. } => *area,
+            AreaShape::Curved { sampler, .. } => sampler.area(),
             AreaShape::Sphere { index } => {
                 let s = &prims.spheres[*index as usize];
                 let r2 = s.radius as f64 * s.radius as f64;
@@ -189,6 +217,18 @@ impl AreaLight {
                     }
                 };
                 (q, interpolation_error([b0, b1, b2], t), normals[k], 1.0 / area, le)
+            }
+            AreaShape::Curved { prim, sampler } => {
+                let (uv, pdf_uv) = sampler.sample(u);
+                match prims.analytic_point_at(*prim, uv) {
+                    Some(q) => {
+                        let jac = q.dpdu.cross(q.dpdv).length();
+                        // A degenerate point (zero area element) has no density: its sample is dropped.
+                        let pdf = if jac > 0.0 { pdf_uv / jac } else { f32::INFINITY };
+                        (q.p, q.p_err, q.n, pdf, self.radiance_at(uv))
+                    }
+                    None => (Vec3A::ZERO, Vec3A::ZERO, Vec3A::Z, f32::INFINITY, Vec3::ZERO),
+                }
             }
             AreaShape::Sphere { index } => {
                 let s = &prims.spheres[*index as usize];
@@ -247,6 +287,10 @@ impl AreaLight {
         let pdf_dir = if self.two_sided { 0.5 * cos.abs() / PI } else { cos.max(0.0) / PI };
         let pdf_pos = match &self.shape {
             AreaShape::Triangles { area, .. } => 1.0 / area,
+            // The position density of a curved surface depends on the surface parameters, which a world point
+            // does not give: the mean density 1/area is returned (no integrator uses it; `sample_le` returns the
+            // exact one).
+            AreaShape::Curved { sampler, .. } => 1.0 / sampler.area(),
             AreaShape::Sphere { index } => {
                 let s = &prims.spheres[*index as usize];
                 match &s.transform {
@@ -271,7 +315,7 @@ impl AreaLight {
     ) -> Option<LightSample> {
         let d = q - p;
         let dist2 = d.length_squared();
-        if dist2 == 0.0 {
+        if dist2 == 0.0 || !pdf_area.is_finite() {
             return None;
         }
         let dist = dist2.sqrt();
@@ -341,6 +385,10 @@ impl AreaLight {
         }
         match &self.shape {
             AreaShape::Triangles { area, .. } => dist2 / (cos_l * area),
+            AreaShape::Curved { sampler, .. } => {
+                let jac = hit.dpdu.cross(hit.dpdv).length();
+                if jac > 0.0 { dist2 / cos_l * sampler.pdf(hit.uv) / jac } else { 0.0 }
+            }
             AreaShape::Sphere { index } => {
                 let s = &prims.spheres[*index as usize];
                 match &s.transform {

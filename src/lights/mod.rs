@@ -5,7 +5,7 @@
 //!   (solid angle) pdfs; [`LeSample::flux`] is the power one sample carries;
 //! - `power`: total emitted power (RGB, W), what light selection weighs.
 //!
-//! Light types: area lights (emissive triangle sets and spheres, `area.rs`), point (`point.rs`), spot (`spot.rs`),
+//! Light types: area lights (emissive triangle sets, spheres and curved surfaces, `area.rs`), point (`point.rs`), spot (`spot.rs`),
 //! directional (`directional.rs`) and the environment (`environment.rs`, sampled through `EnvSampling`: quad-tree,
 //! piecewise-constant, uniform or cosine). Distant lights (directional, environment) emit from a disk covering the
 //! scene's bounding sphere ([`SceneSphere`]). [`LightSampler`] chooses one light in proportion to its power and

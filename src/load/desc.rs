@@ -264,6 +264,53 @@ pub enum ShapeDesc {
     },
     /// A mesh of the scene's `meshes` table, by name.
     TriangleMesh(String),
+    /// The surface of revolution of `profile` (a curve in the xy-plane, z = 0) about the y axis, intersected
+    /// exactly, or as a mesh with `tessellation: Some((curve: n, revolution: m))`.
+    Revolution {
+        profile: CurveDesc,
+        #[serde(default)]
+        tessellation: Option<TessellationDesc>,
+    },
+    /// A bicubic Bézier patch: 16 control points, four rows of four (u along a row), intersected exactly, or as
+    /// a mesh with `tessellation: Some((patch: n))`.
+    BezierPatch {
+        points: Vec<V3>,
+        #[serde(default)]
+        tessellation: Option<TessellationDesc>,
+    },
+    /// Every surface of a 6.837 spline file (`spline8_*.txt`: surfaces of revolution and Bézier patches; curves
+    /// alone are left out), exact or tessellated.
+    Splines {
+        path: String,
+        #[serde(default)]
+        tessellation: Option<TessellationDesc>,
+    },
+}
+
+/// A piecewise cubic curve: `Bezier([...])` (3k + 1 control points) or `BSpline([...])` (uniform cubic, at least
+/// 4; a point repeated three times is passed through).
+#[derive(Deserialize, Debug, Clone)]
+#[serde(deny_unknown_fields)]
+pub enum CurveDesc {
+    Bezier(Vec<V3>),
+    BSpline(Vec<V3>),
+}
+
+fn ten() -> usize {
+    10
+}
+
+/// Tessellation resolutions (the 6.837 curve editor's): segments per cubic piece of a profile, steps around a
+/// revolution, quads along each side of a patch.
+#[derive(Deserialize, Debug, Clone, Copy)]
+#[serde(deny_unknown_fields)]
+pub struct TessellationDesc {
+    #[serde(default = "ten")]
+    pub curve: usize,
+    #[serde(default = "ten")]
+    pub revolution: usize,
+    #[serde(default = "ten")]
+    pub patch: usize,
 }
 
 #[derive(Deserialize, Debug, Clone)]

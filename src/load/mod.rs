@@ -1,6 +1,7 @@
 //! The Load stage: read the scene (RON, a bare OBJ mesh, or a 6.837 `.txt` scene), spawn its entities, and resolve
 //! the render settings from the file and the command-line overrides.
 
+mod curved;
 mod deep_stack;
 pub mod desc;
 pub mod gltf;
@@ -103,7 +104,7 @@ fn load_file(path: &Path, world: &mut World, res: &mut Resources) -> Result<File
         "txt" => {
             // A 6.837 scene: spawned through its RON equivalent (what `prism convert` writes).
             let base = path.parent().unwrap_or(Path::new("."));
-            let text = mit6837::convert_file(path, base)?.ron;
+            let text = mit6837::convert_file(path, base, res.overrides.exact_curves)?.ron;
             let desc = parse_scene(&text, path)?;
             spawn_scene(&desc, &text, path, base, world, res)
         }

@@ -2,7 +2,8 @@
 //! only the components it uses; materials and meshes go to the resource tables. All semantic validation happens
 //! here, with errors naming the file and the entity.
 
-use super::desc::{AccelDesc, CameraDesc, EntityDesc, LightDesc, SceneDesc, ShapeDesc, V3};
+use super::curved;
+use super::desc::{AccelDesc, CameraDesc, EntityDesc, LightDesc, SceneDesc, ShapeDesc, TessellationDesc, V3};
 use super::materials::MaterialEntry;
 use super::obj::load_obj;
 use super::ron_scene::plugin_config;
@@ -363,7 +364,7 @@ impl Spawner<'_> {
             (Some(Light::Area { .. }), None) => {
                 return Err(PrismError::scene(
                     &ctx,
-                    "an area light needs a shape (sphere, triangle, quad, cube or mesh)",
+                    "an area light needs a shape (sphere, triangle, quad, cube, mesh, revolution or Bézier patch)",
                 ));
             }
             (
@@ -515,7 +516,33 @@ impl Spawner<'_> {
                 known.sort();
                 PrismError::scene(ctx, format!("unknown mesh '{name}' (defined: {})", known.join(", ")))
             })?),
+            ShapeDesc::Revolution { profile, tessellation } => {
+                let profile = curved::profile_curve(profile, ctx)?;
+                curved::revolution_shape(self.res, profile, self.tessellation(*tessellation), ctx)?
+            }
+            ShapeDesc::BezierPatch { points, tessellation } => {
+                let points = curved::patch_points(points, ctx)?;
+                curved::patch_shape(self.res, points, self.tessellation(*tessellation), ctx)?
+            }
+            ShapeDesc::Splines { path, tessellation } => {
+                let full = self.base_dir.join(path);
+                let mut parts = curved::spline_file_shapes(self.res, &full, self.tessellation(*tessellation), ctx)?;
+                if parts.len() == 1 {
+                    return Ok(ShapeOut::One(parts.remove(0).1));
+                }
+                return Ok(ShapeOut::Parts(
+                    parts
+                        .into_iter()
+                        .map(|(name, shape)| MeshPart { name, shape, material: None, emission: None })
+                        .collect(),
+                ));
+            }
         }))
+    }
+
+    /// The tessellation a curved shape asks for, unless curves are rendered exactly (`--exact-curves`).
+    fn tessellation(&self, t: Option<TessellationDesc>) -> Option<TessellationDesc> {
+        if self.res.overrides.exact_curves { None } else { t }
     }
 
     fn mesh_file(&mut self, path: &Path, flat: bool, reverse: bool, ctx: &str) -> Result<ShapeOut> {

@@ -1,8 +1,9 @@
-//! Recursive-descent parser of 6.837 scene files (Fall 2004, assignments 1-5; the course's `scene_parser.C`
+//! Recursive-descent parser of 6.837 scene files (Fall 2004, assignments 1-5 and 8; the course's `scene_parser.C`
 //! grammar): top-level `OrthographicCamera`, `PerspectiveCamera`, `Background`, `Lights`, `Materials` and one
 //! `Group`; objects `Group`, `Transform`, `Sphere`, `Plane`, `Triangle`, `TriangleMesh`. It checks what the course
 //! only asserted: braces, declared counts (`numObjects`, `numMaterials`, `numLights`), keywords, numbers, material
-//! indices and that mesh files exist, each failure a one-line error `file:line:col: message`.
+//! indices and that mesh files exist (or, for assignment 8's meshes, the spline file they are made from), each
+//! failure a one-line error `file:line:col: message`.
 
 use super::ast::{CameraTxt, LightTxt, MaterialTxt, ObjectTxt, OpTxt, PhongTxt, SceneTxt};
 use super::lexer::{Token, tokenize};
@@ -457,11 +458,17 @@ impl Parser<'_> {
                 if !name.text.to_ascii_lowercase().ends_with(".obj") {
                     return Err(self.error_at(name.line, name.col, format!("obj_file `{}` is not .obj", name.text)));
                 }
-                if let Err(e) = crate::io::open_regular(&path, "obj_file") {
+                // A mesh assignment 8's curve editor made: its spline file, if it is there.
+                let splines = super::course_meshes::course_mesh(&name.text)
+                    .map(|(spline, tess)| (self.base_dir.join(spline), tess))
+                    .filter(|(spline, _)| spline.is_file());
+                if splines.is_none()
+                    && let Err(e) = crate::io::open_regular(&path, "obj_file")
+                {
                     return Err(self.error_at(name.line, name.col, e.to_string()));
                 }
                 self.expect("}", "to close TriangleMesh")?;
-                ObjectTxt::Mesh { line, path, material: self.material_for(t)? }
+                ObjectTxt::Mesh { line, path, material: self.material_for(t)?, splines }
             }
             other => {
                 return Err(self.error_at(
