@@ -88,11 +88,11 @@ pub fn describe_plugin(c: &PluginConfig) -> String {
 /// Which accelerator to build over the scene's bounded primitives.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum AccelKind {
-    /// Compressed 8-wide BVH via obvhs (the default).
+    /// Wide BVH with SoA boxes and packet leaves (`src/accel/wide_bvh.rs`), built by obvhs (the default).
     #[default]
     Bvh,
-    /// 4-wide BVH with SoA boxes and packet leaves (`src/accel/wide_bvh.rs`), built by obvhs.
-    Bvh4,
+    /// obvhs's compressed 8-wide BVH (CWBVH) and its own traversal (`src/accel/bvh.rs`), kept for comparison.
+    CwBvh,
     /// SAH kd-tree (`src/accel/kdtree.rs`).
     KdTree,
     /// Uniform grid with the given resolution (`src/accel/grid.rs`).
@@ -110,11 +110,11 @@ pub enum GridResolution {
 }
 
 impl AccelKind {
-    /// `bvh`, `kdtree`, `grid` (automatic resolution) or `brute`.
+    /// `bvh`, `cwbvh`, `kdtree`, `grid` (automatic resolution) or `brute`.
     pub fn parse(s: &str) -> Option<Self> {
         match s {
             "bvh" => Some(Self::Bvh),
-            "bvh4" => Some(Self::Bvh4),
+            "cwbvh" => Some(Self::CwBvh),
             "kdtree" => Some(Self::KdTree),
             "grid" => Some(Self::Grid(GridResolution::Auto)),
             "brute" => Some(Self::Brute),
@@ -125,7 +125,7 @@ impl AccelKind {
     pub fn name(&self) -> &'static str {
         match self {
             Self::Bvh => "bvh",
-            Self::Bvh4 => "bvh4",
+            Self::CwBvh => "cwbvh",
             Self::KdTree => "kdtree",
             Self::Grid(_) => "grid",
             Self::Brute => "brute",
@@ -134,10 +134,10 @@ impl AccelKind {
 
     /// Every accelerator (the grid with automatic resolution).
     pub const ALL: [AccelKind; 5] =
-        [AccelKind::Bvh, AccelKind::Bvh4, AccelKind::KdTree, AccelKind::Grid(GridResolution::Auto), AccelKind::Brute];
+        [AccelKind::Bvh, AccelKind::CwBvh, AccelKind::KdTree, AccelKind::Grid(GridResolution::Auto), AccelKind::Brute];
 
     /// The names `parse` accepts, for messages.
-    pub const NAMES: &'static str = "bvh, kdtree, grid or brute";
+    pub const NAMES: &'static str = "bvh, cwbvh, kdtree, grid or brute";
 }
 
 /// The resolved settings of one render.

@@ -20,7 +20,7 @@ use rayon::prelude::*;
 pub fn accelerators() -> Vec<AccelKind> {
     vec![
         AccelKind::Bvh,
-        AccelKind::Bvh4,
+        AccelKind::CwBvh,
         AccelKind::KdTree,
         AccelKind::Grid(GridResolution::Auto),
         AccelKind::Grid(GridResolution::Fixed([7, 5, 3])),

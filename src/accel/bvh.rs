@@ -1,5 +1,7 @@
-//! BVH via obvhs: a compressed 8-wide BVH (CWBVH, Ylitie et al. 2017) built by PLOC with reinsertion over the
-//! bounds of all bounded primitives, analytic shapes included (through `Primitives`' one analytic dispatch). After the build, primitive data is copied into
+//! `--accel cwbvh`: obvhs's compressed 8-wide BVH (CWBVH, Ylitie et al. 2017) and its own traversal, kept to
+//! compare against the default BVH (`wide_bvh.rs`, built by the same obvhs builder). Built by PLOC with
+//! reinsertion over the bounds of all bounded primitives, analytic shapes included (through `Primitives`' one
+//! analytic dispatch). After the build, primitive data is copied into
 //! BVH leaf order (`slot_tris`, `slot_ids`) so traversal reads triangles sequentially; obvhs hands the traversal
 //! closure a slot, never our primitive id.
 
@@ -189,7 +191,7 @@ impl Accelerator for BvhAccel {
 
     fn stats(&self) -> AccelStats {
         AccelStats {
-            kind: "bvh",
+            kind: "cwbvh",
             detail: format!("{} CWBVH nodes, {} leaf slots", self.bvh.nodes.len(), self.slot_ids.len()),
             build_time: self.build_time,
             memory_bytes: self.bvh.nodes.len() * std::mem::size_of::<obvhs::cwbvh::node::CwBvhNode>()

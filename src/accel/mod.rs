@@ -7,7 +7,8 @@
 //!
 //! | accelerator | file | build |
 //! |---|---|---|
-//! | BVH (obvhs CWBVH) | `bvh.rs` | PLOC, parallel |
+//! | BVH (the default; 8-wide, SoA boxes, packet leaves) | `wide_bvh.rs` | obvhs PLOC, parallel; top-down for clustered input |
+//! | obvhs CWBVH (`cwbvh`) | `bvh.rs` | obvhs PLOC, parallel |
 //! | SAH kd-tree | `kdtree.rs`, `kdtree_build.rs` | Wald & Havran O(N log N), perfect splits |
 //! | uniform grid | `grid.rs` | per-cell triangle/box overlap, nested grids for crowded cells |
 //! | brute force | `brute.rs` | none |
@@ -66,8 +67,8 @@ pub trait Accelerator: Send + Sync {
 }
 
 pub enum Accel {
-    Bvh(BvhAccel),
-    Bvh4(WideBvh),
+    Bvh(WideBvh),
+    CwBvh(BvhAccel),
     KdTree(KdTree),
     Grid(UniformGrid),
     Brute(BruteForce),
@@ -77,7 +78,7 @@ macro_rules! dispatch {
     ($self:expr, $a:ident => $e:expr) => {
         match $self {
             Accel::Bvh($a) => $e,
-            Accel::Bvh4($a) => $e,
+            Accel::CwBvh($a) => $e,
             Accel::KdTree($a) => $e,
             Accel::Grid($a) => $e,
             Accel::Brute($a) => $e,
@@ -90,8 +91,8 @@ impl Accel {
     pub fn build(kind: AccelKind, prims: &Primitives) -> Result<Accel> {
         let start = Instant::now();
         let mut accel = match kind {
-            AccelKind::Bvh => Accel::Bvh(BvhAccel::build(prims)),
-            AccelKind::Bvh4 => Accel::Bvh4(WideBvh::build(prims)),
+            AccelKind::Bvh => Accel::Bvh(WideBvh::build(prims)),
+            AccelKind::CwBvh => Accel::CwBvh(BvhAccel::build(prims)),
             AccelKind::KdTree => Accel::KdTree(KdTree::build(prims)),
             AccelKind::Grid(res) => Accel::Grid(UniformGrid::build(prims, res)?),
             AccelKind::Brute => Accel::Brute(BruteForce::build(prims)),
@@ -103,7 +104,7 @@ impl Accel {
     fn set_build_time(&mut self, d: Duration) {
         match self {
             Accel::Bvh(a) => a.build_time = d,
-            Accel::Bvh4(a) => a.build_time = d,
+            Accel::CwBvh(a) => a.build_time = d,
             Accel::KdTree(a) => a.build_time = d,
             Accel::Grid(a) => a.build_time = d,
             Accel::Brute(_) => {}

@@ -1,12 +1,14 @@
-//! A 4-wide BVH for CPU single-ray traversal: built by obvhs (PLOC with reinsertion, leaves of up to four
-//! primitives), then collapsed into nodes of four children whose boxes are stored as structure of arrays, so one
-//! ray is tested against four boxes with one SIMD operation per slab (glam's `Vec4`, SSE on x86-64), and leaves hold
-//! their triangles four to a [`TriPacket`] (the same conservative SIMD pre-filter and exact watertight test the
-//! kd-tree uses).
+//! The default BVH (`--accel bvh`), an 8-wide BVH for CPU single-ray traversal: built by obvhs (PLOC with
+//! reinsertion, leaves of up to eight primitives; the top-down build of `bvh_fallback.rs` when many primitives share
+//! a Morton cell), then collapsed into nodes of eight children whose boxes are stored as structure of arrays in two
+//! groups of four, so one ray is tested against four boxes with one SIMD operation per slab (glam's `Vec4`, SSE on
+//! x86-64), and leaves hold their triangles four to a [`TriPacket`] (the same conservative SIMD pre-filter and exact
+//! watertight test the kd-tree uses).
 //!
-//! Why not obvhs's own CWBVH traversal: its 8-wide nodes are quantised for GPU memory bandwidth (Ylitie et al.
-//! 2017), so every node visit first decompresses eight boxes; on a CPU core the uncompressed 4-wide layout tests
-//! the same boxes with fewer instructions and no per-child decode (measured in the README's performance section).
+//! Why not obvhs's own CWBVH traversal (still available as `--accel cwbvh`, `bvh.rs`): its 8-wide nodes are
+//! quantised for GPU memory bandwidth (Ylitie et al. 2017), so every node visit first decompresses eight boxes; on
+//! a CPU core the uncompressed layout tests the same boxes with fewer instructions and no per-child decode
+//! (measured in the README's performance section).
 //!
 //! Traversal: ordered (children pushed far to near by their entry distance, so the nearest is taken first), with a
 //! fixed stack; box tests are robust to axis-parallel rays (reciprocals clamped to +-1e25, -0 treated as +0) and
@@ -144,8 +146,13 @@ impl WideBvh {
         if aabbs.is_empty() {
             return out;
         }
-        let params = BvhBuildParams { max_prims_per_leaf: 8, ..BvhBuildParams::medium_build() };
-        let bvh2 = obvhs::bvh2::builder::build_bvh2(&aabbs, params, &mut Duration::default());
+        let bvh2 = if super::bvh_fallback::needs_fallback(&aabbs) {
+            // Many primitives in one Morton cell make PLOC quadratic and its tree a chain: build top-down instead.
+            super::bvh_fallback::build_bvh2(&aabbs)
+        } else {
+            let params = BvhBuildParams { max_prims_per_leaf: 8, ..BvhBuildParams::medium_build() };
+            obvhs::bvh2::builder::build_bvh2(&aabbs, params, &mut Duration::default())
+        };
         out.root = out.collapse(&bvh2, 0, prims, 1);
         out
     }
@@ -427,7 +434,7 @@ impl Accelerator for WideBvh {
 
     fn stats(&self) -> AccelStats {
         AccelStats {
-            kind: "bvh4",
+            kind: "bvh",
             build_time: self.build_time,
             memory_bytes: self.nodes.len() * std::mem::size_of::<Node4>()
                 + self.leaves.len() * std::mem::size_of::<LeafRange>()
