@@ -402,6 +402,10 @@ impl Primitives {
                     curved = Some(prims.analytic.len() as u32);
                     prims.analytic.push(ShapeRef::Revolution(prims.revolutions.len() as u32));
                     prims.revolutions.push(Revolution::new(profile.clone(), to_f64(&m), material, light_slot));
+                    let b = prims.prim_bounds(prims.num_bounded() - 1);
+                    if !within_limits(b.min) || !within_limits(b.max) {
+                        return Err(beyond_limits(name(), "surface of revolution", b.min.abs().max(b.max.abs())));
+                    }
                 }
                 Shape::BezierPatch { points } => {
                     let w = to_f64(&m);
@@ -412,6 +416,10 @@ impl Primitives {
                     curved = Some(prims.analytic.len() as u32);
                     prims.analytic.push(ShapeRef::Patch(prims.patches.len() as u32));
                     prims.patches.push(BezierPatch::new(ctrl, material, light_slot));
+                    let b = prims.prim_bounds(prims.num_bounded() - 1);
+                    if !within_limits(b.min) || !within_limits(b.max) {
+                        return Err(beyond_limits(name(), "Bézier patch", b.min.abs().max(b.max.abs())));
+                    }
                 }
                 Shape::Plane { normal, offset } => {
                     if emits {

@@ -133,6 +133,40 @@ fn hash_grid_and_kd_tree_lookups_give_the_same_image() {
     }
 }
 
+/// The hash grid's cells follow the median radius, so a pixel seeing a far surface can ask for a radius millions
+/// of cells wide (the hostile-input harness found a scene taking minutes that way): every query, from a tiny radius
+/// to one spanning the scene, finds exactly the photons brute force finds, and each once.
+#[test]
+fn hash_grid_queries_far_wider_than_a_cell_find_exactly_the_photons_within_the_radius() {
+    use glam::Vec3A;
+    use prism::plugins::ppm::PhotonHashGrid;
+    let mut rng = prism::sampling::Rng::new(7, 1);
+    let photons: Vec<Photon> = (0..5000)
+        .map(|_| Photon {
+            p: Vec3A::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) * 100.0 - 50.0,
+            wi: Vec3A::Y,
+            ng: Vec3A::Y,
+            beta: Vec3::ONE,
+            depth: 1,
+        })
+        .collect();
+    let mut grid = PhotonHashGrid::default();
+    grid.build(std::slice::from_ref(&photons), 1e-3);
+    for (k, r) in [1e-4f32, 0.5, 3.0, 40.0, 1e4].into_iter().enumerate() {
+        let p = Vec3A::new(k as f32, -2.0 * k as f32, 0.5);
+        let mut found = Vec::new();
+        grid.query(p, r, |ph| found.push((ph.p.x.to_bits(), ph.p.y.to_bits(), ph.p.z.to_bits())));
+        let mut truth: Vec<_> = photons
+            .iter()
+            .filter(|ph| (ph.p - p).length_squared() < r * r)
+            .map(|ph| (ph.p.x.to_bits(), ph.p.y.to_bits(), ph.p.z.to_bits()))
+            .collect();
+        found.sort();
+        truth.sort();
+        assert_eq!(found, truth, "radius {r}");
+    }
+}
+
 #[test]
 fn ppm_is_bit_identical_across_thread_counts() {
     let render = |threads: usize| {

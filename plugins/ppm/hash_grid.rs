@@ -1,6 +1,7 @@
 //! The hash-grid photon lookup (the design card's): a uniform grid of cubic cells of side `cell` (twice the
 //! current median gather radius, so a typical query touches 2 x 2 x 2 cells and a pixel with a larger radius a few
-//! more) hashed into a table of 2^k slots, built over the **photons** every iteration. Each stored photon keeps its
+//! more; a query that would visit more cells than there are photons scans the photons instead) hashed into a table
+//! of 2^k slots, built over the **photons** every iteration. Each stored photon keeps its
 //! cell's key, so photons of other cells that share a slot are skipped and no slot is read twice for one cell.
 //!
 //! Why over the photons and not over the visible points (pbrt-v4's choice): with photons in the grid, every visible
@@ -110,6 +111,19 @@ impl PhotonHashGrid {
         let lo = self.cell_of(p - Vec3A::splat(r));
         let hi = self.cell_of(p + Vec3A::splat(r));
         let r2 = r * r;
+        // A radius far above the cell size (a pixel whose visible point is much farther than most: cells follow
+        // the median radius) would visit more cells than there are photons: scan the photons instead, which
+        // costs at most what the cells would and never walks billions of empty cells.
+        let span = |a: i32, b: i32| (b as i64 - a as i64 + 1).max(0) as u64;
+        let cells = span(lo.x, hi.x).saturating_mul(span(lo.y, hi.y)).saturating_mul(span(lo.z, hi.z));
+        if cells >= self.photons.len() as u64 {
+            for ph in &self.photons {
+                if (ph.p - p).length_squared() < r2 {
+                    f(ph);
+                }
+            }
+            return;
+        }
         for z in lo.z..=hi.z {
             for y in lo.y..=hi.y {
                 for x in lo.x..=hi.x {

@@ -78,7 +78,6 @@ fn option_cases(v: &mut Vec<Case>, scene: &Path, out: &Path) {
         "debug(mode: grid_cells)",
         "phong(max_depth: ((((((((((((((((((((((((((((((1))))))))))))))))))))))))))))))",
         "\u{1b}[31mphong",
-        "phong\n(max_depth: 1)",
         "magic",
     ];
     for spec in specs {
