@@ -34,6 +34,7 @@ pub mod mesh_tangents;
 pub mod primitives;
 pub mod propagate;
 pub mod render;
+pub mod report;
 pub mod sampling;
 pub mod scene;
 pub mod settings;

@@ -19,6 +19,7 @@ mod mit6837;
 mod mit6837_solid;
 mod plugin;
 mod ppm;
+mod report;
 mod resume;
 mod samplers;
 mod sampling;

@@ -16,6 +16,7 @@
 mod brute;
 mod bvh;
 mod clip;
+pub mod bench;
 pub mod grid;
 pub mod kdtree;
 mod kdtree_build;

@@ -1,4 +1,4 @@
-//! The `prism` command line (clap), per DESIGN section 3: `render`, `compare`, `converge`, `bench` and `convert`,
+//! The `prism` command line (clap), per DESIGN section 3: `render`, `compare`, `converge`, `bench`, `convert` and `report`,
 //! plus `raytracer` (6.837 course command lines).
 
 mod bench_cmd;
@@ -9,6 +9,7 @@ mod course_views;
 mod merge_cmd;
 mod raytracer_cmd;
 mod render_cmd;
+mod report_cmd;
 
 use clap::{Parser, Subcommand};
 use std::path::PathBuf;
@@ -34,6 +35,8 @@ pub enum Command {
     Convert(convert_cmd::ConvertArgs),
     /// Run a 6.837 course command line (`-input scene.txt -size 200 200 -output out.tga -grid 5 5 5 ...`).
     Raytracer(raytracer_cmd::RaytracerArgs),
+    /// The speed-vs-accuracy and stability atlas of a suite: DIR/index.html with charts, images and CSV.
+    Report(report_cmd::ReportArgs),
     /// Compare an image with a reference: RMSE, relMSE, mean absolute error.
     Compare {
         /// The image to test (.exr or .png).
@@ -55,6 +58,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Convert(args) => convert_cmd::run(args),
         Command::Merge(args) => merge_cmd::run(args),
         Command::Raytracer(args) => raytracer_cmd::run(args),
+        Command::Report(args) => report_cmd::run(args),
         Command::Compare { test, reference, json } => compare_cmd::run(&test, &reference, json),
     }
 }
