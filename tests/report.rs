@@ -11,12 +11,36 @@ use prism::io::Image;
 use prism::report::images::{fit_reference, hardest_region};
 use std::path::Path;
 
-/// The rows of a CSV file as maps from column name to value (no quoted commas in the fields used here).
+/// The fields of one CSV line (RFC 4180 quoting: `"a, b"` is one field, `""` inside quotes is a quote).
+fn fields(line: &str) -> Vec<String> {
+    let (mut out, mut cur, mut quoted, mut chars) = (vec![], String::new(), false, line.chars().peekable());
+    while let Some(c) = chars.next() {
+        match (c, quoted) {
+            ('"', true) if chars.peek() == Some(&'"') => {
+                cur.push('"');
+                chars.next();
+            }
+            ('"', _) => quoted = !quoted,
+            (',', false) => out.push(std::mem::take(&mut cur)),
+            (c, _) => cur.push(c),
+        }
+    }
+    out.push(cur);
+    out
+}
+
+/// The rows of a CSV file as maps from column name to value; every row has as many fields as the header.
 fn csv(path: &Path) -> Vec<std::collections::HashMap<String, String>> {
     let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
     let mut lines = text.lines();
-    let head: Vec<String> = lines.next().unwrap().split(',').map(String::from).collect();
-    lines.map(|l| head.iter().cloned().zip(l.split(',').map(String::from)).collect()).collect()
+    let head = fields(lines.next().unwrap());
+    lines
+        .map(|l| {
+            let f = fields(l);
+            assert_eq!(f.len(), head.len(), "{}: `{l}`", path.display());
+            head.iter().cloned().zip(f).collect()
+        })
+        .collect()
 }
 
 /// Every `src="..."` of the page.
@@ -31,8 +55,10 @@ fn the_small_suite_writes_a_complete_page_whose_measurements_show_the_physics() 
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "{err}");
     let html = std::fs::read_to_string(dir.join("index.html")).unwrap();
-    // Self-contained: no script, nothing fetched from elsewhere, every picture beside the page.
-    assert!(!html.contains("<script") && !html.contains("http://") && !html.contains("https://"));
+    // Self-contained: no script, nothing fetched from elsewhere (the SVG namespace is a name, not an address),
+    // every picture beside the page.
+    let addresses = html.replace(r#"xmlns="http://www.w3.org/2000/svg""#, "");
+    assert!(!html.contains("<script") && !addresses.contains("http://") && !addresses.contains("https://"));
     let srcs = sources(&html);
     assert!(srcs.len() >= 25, "{} pictures", srcs.len());
     for s in &srcs {
@@ -82,7 +108,10 @@ fn the_small_suite_writes_a_complete_page_whose_measurements_show_the_physics() 
     // Non-finite input: the NaN scene and the infinite texel are rejected, the NaN texels render finite.
     let errors: Vec<_> = stab.iter().filter(|r| r["case"] == "nonfinite" && r["metric"] == "error").collect();
     assert_eq!(errors.len(), 2);
-    assert!(stab.iter().any(|r| r["variant"] == "sky with NaN texels" && r["metric"] == "nonfinite_pixels" && r["value"] == "0"));
+    assert!(
+        stab.iter()
+            .any(|r| r["variant"] == "sky with NaN texels" && r["metric"] == "nonfinite_pixels" && r["value"] == "0")
+    );
     assert!(err.contains("wrote"), "{err}");
 }
 

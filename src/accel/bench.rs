@@ -157,8 +157,7 @@ pub fn bench_scene(path: &Path, opts: &BenchOptions, pool: &rayon::ThreadPool) -
     eprintln!("{name}: tracing ...");
     let mrays = pool.install(|| interleaved_best(&accels, prims, [&camera, &bounce, &shadow], opts.min));
     let mut rows = vec![];
-    for (((kind, build), accel), [camera_mrays, secondary_mrays, shadow_mrays]) in
-        builds.iter().zip(&accels).zip(mrays)
+    for (((kind, build), accel), [camera_mrays, secondary_mrays, shadow_mrays]) in builds.iter().zip(&accels).zip(mrays)
     {
         let stats = accel.stats();
         rows.push(BenchRow {
@@ -205,9 +204,12 @@ pub fn table(rows: &[BenchRow], threads: usize, size: u32) -> String {
     s
 }
 
+/// A named number of a bench row (e.g. `("camera", |r| r.camera_mrays)`).
+pub type RowValue<'a> = (&'a str, fn(&BenchRow) -> f64);
+
 /// One series per accelerator (and per ray kind when `kinds` names several) of `value(row)` against primitive
 /// count, points sorted by primitive count.
-pub fn series_by_accel(rows: &[BenchRow], kinds: &[(&str, fn(&BenchRow) -> f64)]) -> Vec<Series> {
+pub fn series_by_accel(rows: &[BenchRow], kinds: &[RowValue]) -> Vec<Series> {
     let mut series: Vec<Series> = Vec::new();
     for r in rows {
         for (kind, value) in kinds {

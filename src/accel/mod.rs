@@ -13,10 +13,10 @@
 //!
 //! [`Scene`]: crate::scene::Scene
 
+pub mod bench;
 mod brute;
 mod bvh;
 mod clip;
-pub mod bench;
 pub mod grid;
 pub mod kdtree;
 mod kdtree_build;

@@ -81,7 +81,14 @@ pub(super) fn section(ctx: &mut Ctx, case: &AccelCase) -> String {
             let mut series = series_by_accel(&rows, &[("", value)]);
             series.iter_mut().for_each(|s| s.points.retain(|p| p.1 > 0.0));
             series.retain(|s| !s.points.is_empty());
-            Chart { title: title.into(), x_label: "primitives".into(), y_label: y.into(), log_x: true, log_y: true, series }
+            Chart {
+                title: title.into(),
+                x_label: "primitives".into(),
+                y_label: y.into(),
+                log_x: true,
+                log_y: true,
+                series,
+            }
         };
         s += r#"<div class="charts">"#;
         s += &chart("Camera rays (closest hit)", "Mrays/s", |r| r.camera_mrays).to_svg();
@@ -126,10 +133,8 @@ pub(super) fn section(ctx: &mut Ctx, case: &AccelCase) -> String {
         );
     }
     if let Some(h) = &case.heat {
-        let specs: Vec<String> = h
-            .accels
-            .clone()
-            .unwrap_or_else(|| case.accels.iter().filter(|a| a.as_str() != "brute").cloned().collect());
+        let specs: Vec<String> =
+            h.accels.clone().unwrap_or_else(|| case.accels.iter().filter(|a| a.as_str() != "brute").cloned().collect());
         let name = h.scene.file_stem().map_or("view".into(), |n| n.to_string_lossy().into_owned());
         let _ = write!(s, "<h3>Traversal heat maps: {}</h3>", esc(&name));
         s += r#"<p class="note">Per pixel, the work of the camera ray through the pixel centre in each accelerator, on one colour scale (<code>debug(mode: heat)</code>).</p>"#;

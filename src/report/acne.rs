@@ -123,7 +123,11 @@ pub(super) fn case(ctx: &mut Ctx, c: &AcneCase) -> String {
             ctx.csv(
                 "stability.csv",
                 "case,variant,metric,value",
-                format!("{},{},false_shadow_percent,{share:.4}", field(&c.name), field(&format!("{label} / {}", offset.label()))),
+                format!(
+                    "{},{},false_shadow_percent,{share:.4}",
+                    field(&c.name),
+                    field(&format!("{label} / {}", offset.label()))
+                ),
             );
         }
         let _ = write!(s, r#"<p class="note"><b>{}</b></p><div class="strip">{strip}</div>"#, esc(label));

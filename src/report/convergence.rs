@@ -78,7 +78,8 @@ fn noise_estimate(reference: &Path) -> Option<f64> {
     let text = std::fs::read_to_string(reference.with_extension("json")).ok()?;
     let at = text.find("\"noise_rmse_estimate\"")?;
     let rest = text[at..].split_once(':')?.1.trim_start();
-    let end = rest.find(|c: char| !(c.is_ascii_digit() || matches!(c, '.' | 'e' | 'E' | '-' | '+'))).unwrap_or(rest.len());
+    let end =
+        rest.find(|c: char| !(c.is_ascii_digit() || matches!(c, '.' | 'e' | 'E' | '-' | '+'))).unwrap_or(rest.len());
     rest[..end].parse().ok().filter(|v: &f64| v.is_finite() && *v >= 0.0)
 }
 
@@ -328,10 +329,12 @@ fn shown_images(ctx: &mut Ctx, case: &SceneCase, curves: &[Curve], reference: &I
     let name = &case.name;
     let (path, rel) = ctx.picture(&format!("{name}-reference"));
     match images::write_thumbnail_boxed(&path, reference, exposure, Some(crop)) {
-        Ok(()) => strip += &format!(
-            r#"<div class="pair">{}</div>"#,
-            html::figure(&rel, "reference", width, "<b>reference</b><br>(box: the enlarged region)", "shot")
-        ),
+        Ok(()) => {
+            strip += &format!(
+                r#"<div class="pair">{}</div>"#,
+                html::figure(&rel, "reference", width, "<b>reference</b><br>(box: the enlarged region)", "shot")
+            )
+        }
         Err(e) => strip += &ctx.problem("scenes", &format!("{name} picture"), e),
     }
     let (path, crel) = ctx.picture(&format!("{name}-reference-crop"));
@@ -344,8 +347,7 @@ fn shown_images(ctx: &mut Ctx, case: &SceneCase, curves: &[Curve], reference: &I
         let m = compare(&r.image, reference).map(|m| m.rmse).unwrap_or(f64::NAN);
         let crop_img = r.image.crop(crop.0, crop.1, crop.2, crop.3);
         let crop_rmse = compare(&crop_img, &ref_crop).map(|m| m.rmse).unwrap_or(f64::NAN);
-        let caption =
-            format!("<b>{}</b><br>{} spp, {} s, RMSE {}", esc(&c.label), r.spp, num(r.seconds), num(m));
+        let caption = format!("<b>{}</b><br>{} spp, {} s, RMSE {}", esc(&c.label), r.spp, num(r.seconds), num(m));
         let (p1, r1) = ctx.picture(&format!("{name}-m{i}"));
         let (p2, r2) = ctx.picture(&format!("{name}-m{i}-error"));
         let (p3, r3) = ctx.picture(&format!("{name}-m{i}-crop"));
@@ -370,7 +372,13 @@ fn shown_images(ctx: &mut Ctx, case: &SceneCase, curves: &[Curve], reference: &I
         );
     }
     s += &format!(r#"<div class="strip">{strip}</div>"#);
-    s += &html::colour_bar(images::viridis, max as f64, false, "|render - reference| (linear radiance, mean of RGB)", &format!("bar-{name}"));
+    s += &html::colour_bar(
+        images::viridis,
+        max as f64,
+        false,
+        "|render - reference| (linear radiance, mean of RGB)",
+        &format!("bar-{name}"),
+    );
     let how = if case.crop.is_some() {
         "the suite's region"
     } else {
@@ -401,7 +409,8 @@ fn equal_error(ctx: &mut Ctx, case: &SceneCase, curves: &[Curve], peers: &[PeerC
     let common = ours.iter().map(|c| c.2).fold(0.0, f64::max);
     let times: Vec<Option<f64>> = ours.iter().chain(&theirs).map(|c| time_to_error(&c.1, common)).collect();
     let fastest = times[..ours.len()].iter().flatten().copied().fold(f64::INFINITY, f64::min);
-    let mut head = vec!["method".to_string(), "lowest RMSE".into(), format!("time to RMSE {}", num(common)), "relative".into()];
+    let mut head =
+        vec!["method".to_string(), "lowest RMSE".into(), format!("time to RMSE {}", num(common)), "relative".into()];
     head.extend(theirs.iter().map(|t| format!("speed-up over {}", t.0)));
     let mut rows = vec![];
     let header = "scene,target,target_rmse,method,seconds,ratio";
@@ -456,7 +465,11 @@ fn equal_error(ctx: &mut Ctx, case: &SceneCase, curves: &[Curve], peers: &[PeerC
     if let Some(n) = noise
         && common < 2.0 * n
     {
-        let _ = write!(s, " The target is within twice the reference's own noise ({}), which flattens every curve there.", num(n));
+        let _ = write!(
+            s,
+            " The target is within twice the reference's own noise ({}), which flattens every curve there.",
+            num(n)
+        );
     }
     s += "</p>";
     s + &html::table(&head, &format!("lrrr{}", "r".repeat(theirs.len())), &rows, "ratios")
@@ -483,6 +496,11 @@ fn all_points(curves: &[Curve]) -> String {
     format!(
         "<details><summary>All measurements ({} renders)</summary>{}</details>",
         rows.len(),
-        html::table(&["method", "integrator", "sampler", "budget", "spp", "seconds", "RMSE", "relMSE"], "lllrrrrr", &rows, "points")
+        html::table(
+            &["method", "integrator", "sampler", "budget", "spp", "seconds", "RMSE", "relMSE"],
+            "lllrrrrr",
+            &rows,
+            "points"
+        )
     )
 }

@@ -146,7 +146,7 @@ impl Page<'_> {
             s += "</ul></section>";
         }
         s += self.body;
-        let _ = write!(s, "</main><footer>{}</footer></body></html>\n", self.footer);
+        let _ = writeln!(s, "</main><footer>{}</footer></body></html>", self.footer);
         s
     }
 }

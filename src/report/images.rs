@@ -96,7 +96,12 @@ pub fn write_thumbnail(path: &Path, img: &Image, exposure: f32) -> Result<()> {
 }
 
 /// [`write_thumbnail`] with the outline of the rectangle `(x, y, w, h)` drawn on it (white, dark inside edge).
-pub fn write_thumbnail_boxed(path: &Path, img: &Image, exposure: f32, rect: Option<(u32, u32, u32, u32)>) -> Result<()> {
+pub fn write_thumbnail_boxed(
+    path: &Path,
+    img: &Image,
+    exposure: f32,
+    rect: Option<(u32, u32, u32, u32)>,
+) -> Result<()> {
     let mut bytes = srgb_bytes(img, exposure);
     if let Some((x, y, w, h)) = rect {
         let (iw, ih) = (img.width as i64, img.height as i64);

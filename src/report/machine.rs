@@ -88,18 +88,22 @@ impl UsageReport {
         }
         s += ". ";
         match self.others_share() {
-            Some(share) if share > 0.10 => s += &format!(
-                "Other processes used {:.0}% of the machine's CPU time during the run ({:.0} CPU-seconds while the \
+            Some(share) if share > 0.10 => {
+                s += &format!(
+                    "Other processes used {:.0}% of the machine's CPU time during the run ({:.0} CPU-seconds while the \
                  report ran on {threads} thread{}): the timings are noisy and the speed ratios uncertain; regenerate \
                  on a quiet machine for numbers to quote.",
-                100.0 * share,
-                self.others_cpu.unwrap_or(0.0),
-                if threads == 1 { "" } else { "s" }
-            ),
-            Some(share) => s += &format!(
-                "Other processes used {:.1}% of the machine's CPU time during the run: a quiet machine.",
-                100.0 * share
-            ),
+                    100.0 * share,
+                    self.others_cpu.unwrap_or(0.0),
+                    if threads == 1 { "" } else { "s" }
+                )
+            }
+            Some(share) => {
+                s += &format!(
+                    "Other processes used {:.1}% of the machine's CPU time during the run: a quiet machine.",
+                    100.0 * share
+                )
+            }
             None => s += "How much other processes used the machine is unknown here (no /proc).",
         }
         s

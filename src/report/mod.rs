@@ -16,8 +16,8 @@
 //! | `stability.rs`, `acne.rs` | the stability atlas |
 //! | `images.rs`, `html.rs`, `machine.rs` | pictures, markup, machine load during the run |
 
-mod acne;
 mod accelerators;
+mod acne;
 mod convergence;
 pub mod html;
 pub mod images;
@@ -183,7 +183,8 @@ pub(crate) fn parse_accel(spec: &str, prims: Option<&Primitives>) -> Result<Acce
     match spec.split_once(':') {
         None => AccelKind::parse(spec).ok_or_else(bad),
         Some(("grid", "flat")) => {
-            let prims = prims.ok_or_else(|| PrismError::invalid("`grid:flat` is only known once the scene is loaded"))?;
+            let prims =
+                prims.ok_or_else(|| PrismError::invalid("`grid:flat` is only known once the scene is loaded"))?;
             let res = crate::accel::grid::auto_resolution(prims.num_bounded() as usize, prims.bounds.diagonal(), 2.0);
             Ok(AccelKind::Grid(GridResolution::Fixed(res)))
         }
@@ -212,7 +213,8 @@ pub fn run(suite_path: &Path, out: &Path, opts: &ReportOptions) -> Result<Report
             }
         }
     }
-    let threads = opts.threads.or(suite.threads).unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+    let threads =
+        opts.threads.or(suite.threads).unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
     if !(1..=1024).contains(&threads) {
         return Err(PrismError::invalid(format!("threads must be between 1 and 1024, got {threads}")));
     }
@@ -241,7 +243,11 @@ pub fn run(suite_path: &Path, out: &Path, opts: &ReportOptions) -> Result<Report
     let seconds = started.elapsed().as_secs_f64();
     let usage = load.finish();
     for p in ctx.problems.clone() {
-        ctx.csv("problems.csv", "section,item,message", format!("{},{},{}", field(&p.section), field(&p.item), field(&p.message)));
+        ctx.csv(
+            "problems.csv",
+            "section,item,message",
+            format!("{},{},{}", field(&p.section), field(&p.item), field(&p.message)),
+        );
     }
     let mut csv_links = vec![];
     for c in &ctx.csvs {

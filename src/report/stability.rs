@@ -53,12 +53,10 @@ fn renders(ctx: &mut Ctx, c: &RendersCase) -> String {
     let first_scene = c.scene.clone().or_else(|| c.variants[0].scene.clone()).expect("suite checked: a scene");
     let size = match c.size {
         Some(size) => Some(size),
-        None if c.reference.is_some() => {
-            match (RenderJob { scene: &first_scene, ..Default::default() }).size_of() {
-                Ok(size) => Some(size),
-                Err(e) => return s + &ctx.problem("stability", &c.name, e) + "</article>",
-            }
-        }
+        None if c.reference.is_some() => match (RenderJob { scene: &first_scene, ..Default::default() }).size_of() {
+            Ok(size) => Some(size),
+            Err(e) => return s + &ctx.problem("stability", &c.name, e) + "</article>",
+        },
         None => None,
     };
     let reference: Option<Image> = match (&c.reference, size) {
@@ -94,8 +92,7 @@ fn renders(ctx: &mut Ctx, c: &RendersCase) -> String {
                 continue;
             }
         };
-        let job =
-            RenderJob { scene, integrator: v.integrator.as_deref(), sampler: v.sampler, accel, size, seed: None };
+        let job = RenderJob { scene, integrator: v.integrator.as_deref(), sampler: v.sampler, accel, size, seed: None };
         let budget = match (v.time, v.spp) {
             (Some(t), _) => Budget::Seconds(t),
             (None, n) => Budget::Spp(n.unwrap_or(16)),
@@ -124,8 +121,20 @@ fn renders(ctx: &mut Ctx, c: &RendersCase) -> String {
                     esc(&v.label),
                     note(&v.note)
                 );
-                rows.push(vec![esc(&v.label), "rejected".into(), "-".into(), "-".into(), "-".into(), "-".into(), "-".into()]);
-                ctx.csv("stability.csv", "case,variant,metric,value", format!("{},{},error,{}", field(&c.name), field(&v.label), field(e)));
+                rows.push(vec![
+                    esc(&v.label),
+                    "rejected".into(),
+                    "-".into(),
+                    "-".into(),
+                    "-".into(),
+                    "-".into(),
+                    "-".into(),
+                ]);
+                ctx.csv(
+                    "stability.csv",
+                    "case,variant,metric,value",
+                    format!("{},{},error,{}", field(&c.name), field(&v.label), field(e)),
+                );
             }
             (Err(e), false) => {
                 strip += &html::failed_figure(220, &v.label, e);

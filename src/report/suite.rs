@@ -488,7 +488,10 @@ fn check(s: &Suite) -> std::result::Result<(), String> {
             }
             StabilityCase::ShadowAcne(a) => {
                 if a.scenes.is_empty() || a.offsets.is_empty() || a.size == 0 || a.size > 4096 {
-                    return Err(format!("stability case `{}`: scenes and offsets must be given, size 1 to 4096", a.name));
+                    return Err(format!(
+                        "stability case `{}`: scenes and offsets must be given, size 1 to 4096",
+                        a.name
+                    ));
                 }
             }
         }

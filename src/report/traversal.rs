@@ -160,7 +160,15 @@ pub(super) fn figures(
     let mut s = format!(r#"<div class="strip">{strip}</div>"#);
     s += &html::colour_bar(images::heat, max as f64, true, what, &format!("bar-{case}"));
     s += &html::table(
-        &["accelerator", "build ms", "memory", "nodes/cells per ray", "prim tests per ray", "camera Mrays/s", "structure"],
+        &[
+            "accelerator",
+            "build ms",
+            "memory",
+            "nodes/cells per ray",
+            "prim tests per ray",
+            "camera Mrays/s",
+            "structure",
+        ],
         "lrrrrrl",
         &table,
         "traversal",
