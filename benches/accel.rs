@@ -60,6 +60,7 @@ fn raw_ray_sets(scene: &Scene) -> (Vec<Ray>, Vec<Ray>) {
         height: 256,
         aperture_radius: 0.0,
         focus_distance: 1.0,
+        ..Camera::default()
     };
     let rig = CameraRig::new(&cam, &glam::Affine3A::IDENTITY).unwrap();
     let mut camera = Vec::with_capacity(256 * 256);

@@ -10,6 +10,11 @@
 //! radius `aperture_radius`, in the image-right/image-up plane through the eye) and goes through `f`. Every ray has
 //! weight 1. Points in the plane of focus are sharp; an aperture of 0 is exactly the pinhole. Orthographic
 //! cameras get the same lens: rays parallel to the view through the film point converge at the focus plane.
+//!
+//! **Mirror and crop** (for pbrt scenes): `mirror` makes image-right `up x forward` (pbrt's left-handed screen
+//! space); `crop: [x0, y0, x1, y1]` renders only that window of the full frame (pbrt's `cropwindow`): film
+//! position `(px, py)` of the `W x H` window maps to the full-frame fraction `(x0 + (x1 - x0) px / W, y0 + (y1 -
+//! y0) py / H)`, and the fov and aspect ratio are the full frame's.
 
 use crate::components::{Camera, Projection};
 use crate::geometry::Ray;
@@ -23,9 +28,11 @@ pub struct CameraRig {
     forward: Vec3A,
     right: Vec3A,
     up: Vec3A,
-    /// Half-extent of the image plane at distance 1 (perspective) or in world units (orthographic).
+    /// Half-extent of the (full-frame) image plane at distance 1 (perspective) or in world units (orthographic).
     half_w: f32,
     half_h: f32,
+    /// The film window as fractions of the full frame: `[x0, y0, x1 - x0, y1 - y0]` (`[0, 0, 1, 1]` uncropped).
+    window: [f32; 4],
     ortho: bool,
     aperture_radius: f32,
     focus_distance: f32,
@@ -39,10 +46,18 @@ impl CameraRig {
         let eye = world_from_local.transform_point3a(cam.eye.into());
         let target = world_from_local.transform_point3a(cam.target.into());
         let up_w = world_from_local.transform_vector3a(cam.up.into());
-        let forward = (target - eye).try_normalize()?;
-        let right = forward.cross(up_w).try_normalize()?;
+        let forward: Vec3A = crate::math::unit_vector((target - eye).into())?.into();
+        let right: Vec3A =
+            crate::math::unit_vector(forward.cross(crate::math::unit_vector(up_w.into())?.into()).into())?.into();
         let up = right.cross(forward);
-        let aspect = cam.width as f32 / cam.height as f32;
+        let right = if cam.mirror { -right } else { right };
+        let [x0, y0, x1, y1] = cam.crop.unwrap_or([0.0, 0.0, 1.0, 1.0]);
+        let window = [x0, y0, x1 - x0, y1 - y0];
+        if !(window.iter().all(|v| v.is_finite()) && window[2] > 0.0 && window[3] > 0.0) {
+            return None;
+        }
+        // The full frame's aspect ratio: the window's pixels stretched back to the whole frame.
+        let aspect = (cam.width as f32 / window[2]) / (cam.height as f32 / window[3]);
         let (half_h, ortho) = match cam.projection {
             Projection::Perspective { fov_y } => ((0.5 * fov_y.to_radians()).tan(), false),
             Projection::Orthographic { height } => (0.5 * height, true),
@@ -54,6 +69,7 @@ impl CameraRig {
             up,
             half_w: half_h * aspect,
             half_h,
+            window,
             ortho,
             aperture_radius: cam.aperture_radius,
             focus_distance: cam.focus_distance,
@@ -62,11 +78,19 @@ impl CameraRig {
         })
     }
 
+    /// Image-plane coordinates (x towards image-right, y towards image-up) of film position `film` (pixels).
+    #[inline]
+    fn plane(&self, film: Vec2) -> (f32, f32) {
+        let [x0, y0, w, h] = self.window;
+        let fx = x0 + w * film.x / self.width as f32;
+        let fy = y0 + h * film.y / self.height as f32;
+        ((2.0 * fx - 1.0) * self.half_w, (1.0 - 2.0 * fy) * self.half_h)
+    }
+
     /// The primary ray through film position `film` (pixels).
     #[inline]
     pub fn generate_ray(&self, film: Vec2) -> Ray {
-        let x = (2.0 * film.x / self.width as f32 - 1.0) * self.half_w;
-        let y = (1.0 - 2.0 * film.y / self.height as f32) * self.half_h;
+        let (x, y) = self.plane(film);
         if self.ortho {
             Ray::new(self.eye + self.right * x + self.up * y, self.forward)
         } else {
@@ -86,8 +110,7 @@ impl CameraRig {
         if !self.has_lens() {
             return self.generate_ray(film);
         }
-        let x = (2.0 * film.x / self.width as f32 - 1.0) * self.half_w;
-        let y = (1.0 - 2.0 * film.y / self.height as f32) * self.half_h;
+        let (x, y) = self.plane(film);
         let a = concentric_disk(u_lens) * self.aperture_radius;
         let lens = self.right * a.x + self.up * a.y;
         if self.ortho {
@@ -104,7 +127,7 @@ impl CameraRig {
     /// (orthographic): a scale for radii that must adapt to the image resolution.
     #[inline]
     pub fn pixel_footprint(&self, distance: f32) -> f32 {
-        let per_pixel = 2.0 * self.half_h / self.height as f32;
+        let per_pixel = 2.0 * self.half_h * self.window[3] / self.height as f32;
         if self.ortho { per_pixel } else { per_pixel * distance }
     }
 

@@ -18,13 +18,21 @@ pub struct Metrics {
 
 impl Metrics {
     /// One JSON object: `{"rmse": .., "relmse": .., "mae": .., "mean_test": [r, g, b], "mean_reference": [r, g, b]}`.
+    /// JSON has no infinity or NaN: a metric that is not finite (images with infinite or NaN pixels) is `null`.
     pub fn to_json(&self) -> String {
-        let v = |a: [f64; 3]| format!("[{}, {}, {}]", a[0], a[1], a[2]);
+        struct Num(f64);
+        impl std::fmt::Display for Num {
+            fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+                if self.0.is_finite() { write!(f, "{}", self.0) } else { f.write_str("null") }
+            }
+        }
+        let v = |a: [f64; 3]| format!("[{}, {}, {}]", Num(a[0]), Num(a[1]), Num(a[2]));
+        let (rmse, relmse, mae) = (Num(self.rmse), Num(self.relmse), Num(self.mae));
         format!(
             "{{\"rmse\": {}, \"relmse\": {}, \"mae\": {}, \"mean_test\": {}, \"mean_reference\": {}}}",
-            self.rmse,
-            self.relmse,
-            self.mae,
+            rmse,
+            relmse,
+            mae,
             v(self.mean_test),
             v(self.mean_reference)
         )

@@ -42,6 +42,14 @@ pub enum Shape {
         uv: Option<[Vec2; 3]>,
     },
     Mesh(MeshHandle),
+    /// The surface of revolution of a profile curve in the xy-plane (z = 0) about the y axis.
+    Revolution {
+        profile: crate::shapes::Curve,
+    },
+    /// A bicubic Bézier patch: 16 control points, four rows of four (u along a row).
+    BezierPatch {
+        points: [glam::Vec3; 16],
+    },
 }
 
 /// Index of a material in the scene's material table.
@@ -56,12 +64,21 @@ pub enum Light {
     /// with `attenuation = (a0, a1, a2)`, `(0, 0, 1)` for a physical light.
     Point { intensity: Vec3, position: Vec3, attenuation: Vec3 },
     /// A spot light at `position` pointing along `direction` (local frame): intensity `intensity` (W/sr) inside
-    /// the cone of half-angle `cone_angle - falloff` degrees, smoothly falling to 0 at `cone_angle` degrees.
-    Spot { intensity: Vec3, position: Vec3, direction: Vec3, cone_angle: f32, falloff: f32 },
+    /// the cone of half-angle `cone_angle - falloff` degrees, smoothly falling to 0 at `cone_angle` degrees (the
+    /// shape of the fall-off is `profile`'s).
+    Spot {
+        intensity: Vec3,
+        position: Vec3,
+        direction: Vec3,
+        cone_angle: f32,
+        falloff: f32,
+        profile: crate::lights::SpotProfile,
+    },
     /// A distant light; `direction` is the direction the light travels (local frame).
     Directional { irradiance: Vec3, direction: Vec3 },
-    /// The entity's shape emits `radiance` from its front side (the side of its normal), or both sides.
-    Area { radiance: Vec3, two_sided: bool },
+    /// The entity's shape emits `radiance` from its front side (the side of its normal), or both sides; with a
+    /// `texture`, `radiance * texture(uv)`.
+    Area { radiance: Vec3, two_sided: bool, texture: Option<crate::texture::ImageMap> },
     /// Radiance arriving from infinitely far away: `radiance` times the map's value in the direction (rotated by
     /// the entity's transform), or `radiance` alone without a map.
     Environment { radiance: Vec3, map: Option<std::sync::Arc<crate::envmap::EnvMap>> },
@@ -88,4 +105,29 @@ pub struct Camera {
     pub height: u32,
     pub aperture_radius: f32,
     pub focus_distance: f32,
+    /// Mirror the image left-right: image-right is `up x forward` instead of `forward x up` (pbrt's left-handed
+    /// screen space; a pbrt `LookAt` camera sees the world mirrored relative to Prism's convention).
+    pub mirror: bool,
+    /// Render only this window of the full frame, `[x_min, y_min, x_max, y_max]` as fractions of the frame
+    /// (0 = left/top edge, 1 = right/bottom; pbrt's `cropwindow`). `width` x `height` are the window's pixels,
+    /// so the full frame's aspect ratio is `(width / (x_max - x_min)) / (height / (y_max - y_min))`.
+    pub crop: Option<[f32; 4]>,
+}
+
+impl Default for Camera {
+    /// A pinhole at (0, 0, 5) looking at the origin, +y up, 40 degrees, 256 x 256.
+    fn default() -> Self {
+        Camera {
+            eye: Vec3::new(0.0, 0.0, 5.0),
+            target: Vec3::ZERO,
+            up: Vec3::Y,
+            projection: Projection::Perspective { fov_y: 40.0 },
+            width: 256,
+            height: 256,
+            aperture_radius: 0.0,
+            focus_distance: 5.0,
+            mirror: false,
+            crop: None,
+        }
+    }
 }

@@ -12,6 +12,8 @@ use crate::io::Image;
 use crate::settings::Overrides;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 /// What to spend per render.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -45,6 +47,9 @@ pub struct PeerCurve {
 pub type Crop = [u32; 4];
 
 /// Render `scene` once per (integrator, budget) and measure against `reference` (over `crop` if given).
+/// `on_point` sees each point as it is measured (the CLI writes the results so far). When `cancel` is set
+/// (Ctrl-C) the render in progress stops, its point is dropped and the points measured so far are returned.
+#[allow(clippy::too_many_arguments)]
 pub fn measure(
     scene: &Path,
     reference: &Image,
@@ -52,7 +57,8 @@ pub fn measure(
     budgets: &[Budget],
     base: &Overrides,
     crop: Option<Crop>,
-    mut on_point: impl FnMut(&ConvergencePoint),
+    cancel: &Arc<AtomicBool>,
+    mut on_point: impl FnMut(&ConvergencePoint, &[ConvergencePoint]) -> Result<()>,
 ) -> Result<Vec<ConvergencePoint>> {
     let cut = |img: &Image| match crop {
         Some([x, y, w, h]) => img.crop(x, y, w, h),
@@ -78,7 +84,11 @@ pub fn measure(
                 }
             }
             app.resources.overrides = o;
+            app.resources.cancel = cancel.clone();
             app.run()?;
+            if app.resources.progress.interrupted || cancel.load(Ordering::Relaxed) {
+                return Ok(out);
+            }
             let img = crate::render::film_image(&app.resources).ok_or_else(|| PrismError::invalid("no image"))?;
             let m = compare(&cut(&img), reference)?;
             let p = ConvergencePoint {
@@ -90,8 +100,8 @@ pub fn measure(
                 relmse: m.relmse,
                 mae: m.mae,
             };
-            on_point(&p);
             out.push(p);
+            on_point(&out[out.len() - 1], &out)?;
         }
     }
     Ok(out)
@@ -100,7 +110,7 @@ pub fn measure(
 /// Read a peer curve from a CSV with a header containing `scene,spp,seconds,rmse,variant` columns (and, if the CSV
 /// has a `sampler` column and `sampler` is given, only that sampler's rows).
 pub fn read_peer(path: &Path, scene: &str, variant: &str, sampler: Option<&str>) -> Result<PeerCurve> {
-    let text = std::fs::read_to_string(path).map_err(|e| PrismError::io(path, e))?;
+    let text = crate::io::read_regular_text(path, "peer curves file")?;
     let mut lines = text.lines();
     let header: Vec<&str> = lines.next().unwrap_or("").split(',').map(str::trim).collect();
     let col = |name: &str| {
@@ -155,6 +165,9 @@ pub fn time_to_error(points: &[(f64, f64)], target: f64) -> Option<f64> {
     }
     pts.first().filter(|(_, e)| *e <= target).map(|(t, _)| *t)
 }
+
+/// The files [`write_results`] writes into its directory.
+pub const RESULT_FILES: [&str; 3] = ["convergence.csv", "rmse_vs_time.svg", "rmse_vs_spp.svg"];
 
 /// Write `convergence.csv`, `rmse_vs_time.svg` and `rmse_vs_spp.svg` into `dir`; returns their paths.
 pub fn write_results(

@@ -57,3 +57,17 @@ impl PrismError {
 }
 
 pub type Result<T, E = PrismError> = std::result::Result<T, E>;
+
+/// `s` as one printable line: control characters (newlines, escapes, NUL ...) from file or entity names become
+/// visible escapes (`\n`, `\u{1b}`), so a message can neither span lines nor drive the terminal.
+pub fn printable(s: &str) -> String {
+    if !s.chars().any(char::is_control) {
+        return s.to_string();
+    }
+    s.chars().map(|c| if c.is_control() { c.escape_default().to_string() } else { c.to_string() }).collect()
+}
+
+/// Print a warning on stderr as one printable line (`warning: ...`).
+pub fn warn(message: &str) {
+    eprintln!("warning: {}", printable(message));
+}

@@ -2,14 +2,16 @@
 //!
 //! A physically based CPU ray tracer built as a data-oriented ECS: scene files spawn entities (`hecs`) that carry
 //! transform, shape, material and light components; scheduled systems propagate transforms, flatten shapes into
-//! primitives, build an accelerator (BVH via obvhs, SAH kd-tree, uniform grid, or brute force), prepare lights and
-//! the chosen integrator plugin (`phong`, `envlight`, `debug`), and render progressive passes into a linear HDR film
-//! written as EXR or PNG.
+//! primitives (triangles, and analytic shapes in [`shapes`]: spheres, ellipsoids, surfaces of revolution and
+//! Bézier patches intersected exactly), build an accelerator (BVH via obvhs, SAH kd-tree, uniform grid, or brute
+//! force), prepare lights and the chosen integrator plugin (`phong`, `envlight`, `debug`), and render progressive
+//! passes into a linear HDR film written as EXR or PNG.
 //!
 //! Start with [`app::App`] (stages, systems, plugins), [`integrator`] (the interface plugins implement) and the
 //! scene format in the README.
 
 pub mod accel;
+pub mod alpha;
 pub mod app;
 pub mod bsdf;
 pub mod camera;
@@ -22,10 +24,12 @@ pub mod cpu_time;
 pub mod envmap;
 pub mod error;
 pub mod film;
+pub mod fuzz;
 pub mod geometry;
 pub mod integrator;
 pub mod io;
 pub mod lights;
+pub mod limits;
 pub mod load;
 pub mod material;
 pub mod math;
@@ -38,6 +42,7 @@ pub mod report;
 pub mod sampling;
 pub mod scene;
 pub mod settings;
+pub mod shapes;
 pub mod texture;
 
 #[path = "../plugins/mod.rs"]

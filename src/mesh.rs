@@ -4,7 +4,8 @@ use crate::components::MeshHandle;
 use glam::{Vec2, Vec3};
 use std::sync::Arc;
 
-/// An indexed triangle mesh in its local frame. `normals` and `uvs` are either empty or one per position.
+/// An indexed triangle mesh in its local frame. `normals`, `uvs` and `tangents` are either empty or one per
+/// position.
 #[derive(Clone, Debug, Default)]
 pub struct MeshData {
     pub name: String,
@@ -12,6 +13,21 @@ pub struct MeshData {
     pub normals: Vec<Vec3>,
     pub uvs: Vec<Vec2>,
     pub indices: Vec<[u32; 3]>,
+    /// Tangents supplied by the file (glTF `TANGENT`: xyz along increasing u, w the bitangent sign); normal maps
+    /// use them instead of generating MikkTSpace tangents.
+    pub tangents: Vec<glam::Vec4>,
+}
+
+impl MeshData {
+    /// Bytes held by the mesh's arrays (for memory reports).
+    pub fn memory_bytes(&self) -> usize {
+        use std::mem::size_of;
+        self.positions.len() * size_of::<Vec3>()
+            + self.normals.len() * size_of::<Vec3>()
+            + self.uvs.len() * size_of::<Vec2>()
+            + self.indices.len() * size_of::<[u32; 3]>()
+            + self.tangents.len() * size_of::<glam::Vec4>()
+    }
 }
 
 impl MeshData {
@@ -31,6 +47,7 @@ impl MeshData {
             normals: vec![],
             uvs: vec![Vec2::new(0., 0.), Vec2::new(1., 0.), Vec2::new(1., 1.), Vec2::new(0., 1.)],
             indices: vec![[0, 1, 2], [0, 2, 3]],
+            tangents: vec![],
         }
     }
 
@@ -61,7 +78,7 @@ impl MeshData {
             indices.push([base, base + 1, base + 2]);
             indices.push([base, base + 2, base + 3]);
         }
-        MeshData { name: "cube".into(), positions, normals: vec![], uvs, indices }
+        MeshData { name: "cube".into(), positions, normals: vec![], uvs, indices, tangents: vec![] }
     }
 }
 

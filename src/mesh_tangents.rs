@@ -55,6 +55,15 @@ impl bevy_mikktspace::Geometry for Geometry<'_> {
     }
 }
 
+/// The tangent frame at each corner of each triangle: the file's tangents when the mesh has them (glTF
+/// `TANGENT`, MikkTSpace by the specification), MikkTSpace tangents generated here otherwise.
+pub fn corner_tangents(mesh: &MeshData) -> Vec<[Vec4; 3]> {
+    if mesh.tangents.len() == mesh.positions.len() && !mesh.tangents.is_empty() {
+        return mesh.indices.iter().map(|f| f.map(|i| mesh.tangents[i as usize])).collect();
+    }
+    mikktspace_tangents(mesh)
+}
+
 /// MikkTSpace tangent (xyz) and bitangent sign (w, +1 or -1) at each corner of each triangle of `mesh`, in the
 /// mesh's frame; the bitangent is `sign * cross(normal, tangent)` and points along increasing v.
 pub fn mikktspace_tangents(mesh: &MeshData) -> Vec<[Vec4; 3]> {

@@ -1,18 +1,25 @@
 //! Primitives: the scene's shapes flattened into world-space arrays, built once in the BuildAccel stage from the
 //! entities' `Shape`, `WorldFromLocal`, `MaterialId` and `Light::Area` components. Accelerators index them.
 //!
-//! Primitive ids form one range: triangles `[0, T)`, then spheres `[T, T+S)`, then planes `[T+S, T+S+P)`.
-//! Triangles are stored with their vertices already transformed (exact world-space vertices); a sphere keeps its
-//! object-space centre and radius with the composed transform, and is intersected in object space (a sphere under
-//! a non-uniform scale is an ellipsoid) unless the transform is a similarity, in which case it is stored as a
-//! world-space sphere. Planes are unbounded and are never put in an accelerator.
+//! Primitive ids form one range: triangles `[0, T)`, then analytic shapes `[T, T+A)`, then planes `[T+A, T+A+P)`.
+//! Triangles are stored with their vertices already transformed (exact world-space vertices): they are the
+//! accelerators' fast path. Every other bounded shape (sphere, ellipsoid, surface of revolution, Bézier patch;
+//! `crate::shapes`) is an *analytic* primitive, stored in its kind's array and named by `analytic[id - T]`; the
+//! accelerators reach all of them through one dispatch: [`Primitives::prim_bounds`],
+//! [`Primitives::intersect_analytic`], [`Primitives::occludes_analytic`], [`Primitives::analytic_overlaps_box`],
+//! [`Primitives::analytic_clip_bounds`] and [`Primitives::surface`]. Planes are unbounded and are never put in an
+//! accelerator.
 
 use crate::components::{Light, MaterialId, Shape, WorldFromLocal};
 use crate::error::{PrismError, Result};
-use crate::geometry::{Bounds, Ray, WatertightRay, gamma, intersect_plane, intersect_sphere, spawn_ray, spawn_ray_to};
+use crate::geometry::{Bounds, Ray, WatertightRay, gamma, intersect_plane, spawn_ray, spawn_ray_to};
 use crate::lights::LightSample;
+use crate::math::Frame;
 use crate::mesh::MeshStore;
-use glam::{Affine3A, Mat3A, Vec2, Vec3, Vec3A};
+use crate::shapes::{AnalyticShape, BezierPatch, Revolution, ShapeHit, ShapePoint, ShapeRef};
+use glam::{Affine3A, DAffine3, DMat3, Vec2, Vec3, Vec3A};
+
+pub use crate::shapes::{SphereGeom, SphereTransform, sphere_point_error, sphere_uv};
 
 /// Marks "no area light" in `light` fields.
 pub const NO_LIGHT: u32 = u32::MAX;
@@ -35,25 +42,6 @@ pub struct TriShading {
 pub const NO_TANGENTS: u32 = u32::MAX;
 
 #[derive(Clone, Copy, Debug)]
-pub struct SphereGeom {
-    /// Centre and radius in the sphere's frame (world space when `world_from_object` is `None`).
-    pub center: Vec3A,
-    pub radius: f32,
-    /// Present for non-similarity transforms (ellipsoids): intersect in object space.
-    pub transform: Option<SphereTransform>,
-    pub material: u32,
-    pub light: u32,
-}
-
-#[derive(Clone, Copy, Debug)]
-pub struct SphereTransform {
-    pub world_from_object: Affine3A,
-    pub object_from_world: Affine3A,
-    /// Inverse transpose of the linear part: maps object normals to world normals (then normalise).
-    pub normal_to_world: Mat3A,
-}
-
-#[derive(Clone, Copy, Debug)]
 pub struct PlaneGeom {
     pub normal: Vec3A,
     pub offset: f32,
@@ -61,7 +49,7 @@ pub struct PlaneGeom {
 }
 
 /// A closest hit found by an accelerator. For triangles `b1`, `b2` are the barycentric weights of vertices 1 and
-/// 2; unused otherwise.
+/// 2; for curved surfaces their two parameters ([`ShapeHit`]); unused otherwise.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Hit {
     pub t: f32,
@@ -98,12 +86,21 @@ pub struct Primitives {
     pub tri_shading: Vec<TriShading>,
     /// Per-vertex MikkTSpace tangents (xyz, bitangent sign in w) of the triangles of normal-mapped meshes.
     pub tri_tangents: Vec<[glam::Vec4; 3]>,
+    /// Spheres and ellipsoids (`ShapeRef::Sphere` indexes here).
     pub spheres: Vec<SphereGeom>,
+    pub revolutions: Vec<Revolution>,
+    pub patches: Vec<BezierPatch>,
+    /// The analytic primitive with id `T + k` is `analytic[k]`.
+    pub analytic: Vec<ShapeRef>,
     pub planes: Vec<PlaneGeom>,
-    /// Bounds of the bounded primitives (triangles and spheres).
+    /// Bounds of the bounded primitives (triangles and analytic shapes).
     pub bounds: Bounds,
     /// Degenerate (zero-area or non-finite) mesh triangles that were skipped.
     pub skipped_degenerate: usize,
+    /// Alpha masks of the scene (see [`crate::alpha`]) and, when there is any, one mask index per triangle
+    /// ([`crate::alpha::NO_ALPHA`] for opaque ones); empty in scenes without masks.
+    pub alpha_masks: Vec<crate::alpha::AlphaMask>,
+    pub tri_alpha: Vec<u32>,
 }
 
 /// The primitive range one entity produced (used to attach area lights).
@@ -111,7 +108,31 @@ pub struct Primitives {
 pub struct EntityPrims {
     pub first_tri: u32,
     pub tri_count: u32,
+    /// Index in `Primitives::spheres`, for a sphere or ellipsoid.
     pub sphere: Option<u32>,
+    /// A curved analytic shape (revolution, patch): its index in `Primitives::analytic` (primitive id
+    /// `num_tris() + index`).
+    pub curved: Option<u32>,
+}
+
+/// Run `$e` with `$s` bound to the analytic shape named by `$r` (a [`ShapeRef`]): the one dispatch over shape kinds.
+macro_rules! with_shape {
+    ($p:expr, $r:expr, $s:ident => $e:expr) => {
+        match $r {
+            ShapeRef::Sphere(i) => {
+                let $s = &$p.spheres[i as usize];
+                $e
+            }
+            ShapeRef::Revolution(i) => {
+                let $s = &$p.revolutions[i as usize];
+                $e
+            }
+            ShapeRef::Patch(i) => {
+                let $s = &$p.patches[i as usize];
+                $e
+            }
+        }
+    };
 }
 
 impl SurfaceHit {
@@ -138,78 +159,84 @@ pub fn interpolation_error(b: [f32; 3], p: &[Vec3A; 3]) -> Vec3A {
     gamma(7) * ((b[0] * p[0]).abs() + (b[1] * p[1]).abs() + (b[2] * p[2]).abs())
 }
 
-/// Error bound of the point `c + r n` reprojected onto a sphere, then mapped by `transform` (if any).
-#[inline]
-pub fn sphere_point_error(center: Vec3A, rn: Vec3A, transform: Option<&SphereTransform>) -> Vec3A {
-    let err_o = gamma(6) * (center.abs() + rn.abs());
-    match transform {
-        None => err_o,
-        Some(x) => {
-            let m = x.world_from_object.matrix3;
-            let abs_m = Mat3A::from_cols(m.x_axis.abs(), m.y_axis.abs(), m.z_axis.abs());
-            let po = center + rn;
-            (1.0 + gamma(3)) * (abs_m * err_o) + gamma(3) * (abs_m * po.abs() + x.world_from_object.translation.abs())
-        }
-    }
-}
-
 impl Primitives {
     #[inline]
     pub fn num_tris(&self) -> u32 {
         self.tris.len() as u32
     }
 
-    /// Triangles + spheres: the primitives accelerators hold.
+    /// Triangles + analytic shapes: the primitives accelerators hold.
     #[inline]
     pub fn num_bounded(&self) -> u32 {
-        (self.tris.len() + self.spheres.len()) as u32
+        (self.tris.len() + self.analytic.len()) as u32
     }
 
     pub fn num_total(&self) -> u32 {
         self.num_bounded() + self.planes.len() as u32
     }
 
+    /// The analytic shape of bounded primitive `id >= num_tris()`.
+    #[inline(always)]
+    pub fn shape_ref(&self, id: u32) -> ShapeRef {
+        self.analytic[(id - self.num_tris()) as usize]
+    }
+
+    /// True when every bounded primitive is a triangle (accelerators then skip the per-primitive kind test).
+    #[inline]
+    pub fn triangles_only(&self) -> bool {
+        self.analytic.is_empty()
+    }
+
     /// World bounds of bounded primitive `id`.
     pub fn prim_bounds(&self, id: u32) -> Bounds {
-        let nt = self.num_tris();
-        if id < nt {
+        if id < self.num_tris() {
             Bounds::from_points(&self.tris[id as usize])
         } else {
-            let s = &self.spheres[(id - nt) as usize];
-            let local = Bounds::new(s.center - Vec3A::splat(s.radius), s.center + Vec3A::splat(s.radius));
-            match &s.transform {
-                None => local,
-                Some(t) => local.transformed(&t.world_from_object),
-            }
+            with_shape!(self, self.shape_ref(id), s => s.bounds())
         }
     }
 
     /// Intersect bounded primitive `id`; `wt` is the ray's watertight precomputation.
     #[inline(always)]
     pub fn intersect_bounded(&self, id: u32, ray: &Ray, wt: &WatertightRay) -> Option<Hit> {
-        let nt = self.num_tris();
-        if id < nt {
+        if id < self.num_tris() {
             let [p0, p1, p2] = self.tris[id as usize];
             wt.intersect(p0, p1, p2, ray.tmax).map(|h| Hit { t: h.t, prim: id, b1: h.b1, b2: h.b2 })
         } else {
-            self.intersect_sphere(id, ray)
+            self.intersect_analytic(id, ray)
         }
     }
 
+    /// Nearest hit of analytic primitive `id` in `(0, ray.tmax)`.
     #[inline]
-    pub fn intersect_sphere(&self, id: u32, ray: &Ray) -> Option<Hit> {
-        let s = &self.spheres[(id - self.num_tris()) as usize];
-        let t = match &s.transform {
-            None => intersect_sphere(s.center, s.radius, ray.origin, ray.dir, ray.tmax),
-            Some(x) => intersect_sphere(
-                s.center,
-                s.radius,
-                x.object_from_world.transform_point3a(ray.origin),
-                x.object_from_world.transform_vector3a(ray.dir),
-                ray.tmax,
-            ),
-        }?;
-        Some(Hit { t, prim: id, b1: 0.0, b2: 0.0 })
+    pub fn intersect_analytic(&self, id: u32, ray: &Ray) -> Option<Hit> {
+        let h: Option<ShapeHit> = with_shape!(self, self.shape_ref(id), s => s.intersect(ray));
+        h.map(|h| Hit { t: h.t, prim: id, b1: h.u, b2: h.v })
+    }
+
+    /// Does analytic primitive `id` block the ray before `ray.tmax`?
+    #[inline]
+    pub fn occludes_analytic(&self, id: u32, ray: &Ray) -> bool {
+        with_shape!(self, self.shape_ref(id), s => s.occludes(ray))
+    }
+
+    /// Might analytic primitive `id` overlap the box (conservative; grid insertion)?
+    pub fn analytic_overlaps_box(&self, id: u32, b: &Bounds) -> bool {
+        with_shape!(self, self.shape_ref(id), s => s.overlaps_box(b))
+    }
+
+    /// Conservative bounds of analytic primitive `id` inside `voxel` (kd-tree splits).
+    pub fn analytic_clip_bounds(&self, id: u32, voxel: &Bounds) -> Option<Bounds> {
+        with_shape!(self, self.shape_ref(id), s => s.clip_bounds(voxel))
+    }
+
+    /// Surface data of curved analytic primitive `id` at parameter point `uv` (area-light sampling); `None` for
+    /// other primitives.
+    pub fn analytic_point_at(&self, id: u32, uv: Vec2) -> Option<ShapePoint> {
+        if id < self.num_tris() || id >= self.num_bounded() {
+            return None;
+        }
+        with_shape!(self, self.shape_ref(id), s => s.point_at_uv(uv))
     }
 
     /// Closest plane hit closer than `ray.tmax`.
@@ -256,7 +283,7 @@ impl Primitives {
     /// Surface data at a hit.
     pub fn surface(&self, ray: &Ray, hit: &Hit) -> SurfaceHit {
         let nt = self.num_tris();
-        let ns_ = self.spheres.len() as u32;
+        let nb = self.num_bounded();
         if hit.prim < nt {
             let [p0, p1, p2] = self.tris[hit.prim as usize];
             let sh = &self.tri_shading[hit.prim as usize];
@@ -293,47 +320,29 @@ impl Primitives {
                 material: sh.material,
                 light: sh.light,
             }
-        } else if hit.prim < nt + ns_ {
-            let s = &self.spheres[(hit.prim - nt) as usize];
-            let (p, p_err, n, no) = match &s.transform {
-                None => {
-                    let n = (ray.at(hit.t) - s.center).normalize();
-                    (s.center + n * s.radius, sphere_point_error(s.center, n * s.radius, None), n, n)
-                }
-                Some(x) => {
-                    let po = x.object_from_world.transform_point3a(ray.origin)
-                        + x.object_from_world.transform_vector3a(ray.dir) * hit.t;
-                    let no = (po - s.center).normalize();
-                    let p = x.world_from_object.transform_point3a(s.center + no * s.radius);
-                    let err = sphere_point_error(s.center, no * s.radius, Some(x));
-                    (p, err, (x.normal_to_world * no).normalize(), no)
-                }
-            };
-            // uv and derivatives from the object-space normal (the sphere's own parameterisation).
-            let (uv, mut dpdu, mut dpdv) = sphere_uv(no, s.radius);
-            if let Some(x) = &s.transform {
-                dpdu = x.world_from_object.transform_vector3a(dpdu);
-                dpdv = x.world_from_object.transform_vector3a(dpdv);
-            }
+        } else if hit.prim < nb {
+            let r = self.shape_ref(hit.prim);
+            let sh = ShapeHit { t: hit.t, u: hit.b1, v: hit.b2 };
+            let (q, material, light) = with_shape!(self, r, s => (s.surface(ray, &sh), s.material(), s.light()));
             SurfaceHit {
-                p,
-                p_err,
-                ng: n,
-                ns: n,
-                uv,
-                dpdu,
-                dpdv,
+                p: q.p,
+                p_err: q.p_err,
+                ng: q.n,
+                ns: q.n,
+                uv: q.uv,
+                dpdu: q.dpdu,
+                dpdv: q.dpdv,
                 t: hit.t,
                 prim: hit.prim,
-                material: s.material,
-                light: s.light,
+                material,
+                light,
             }
         } else {
-            let pl = &self.planes[(hit.prim - nt - ns_) as usize];
+            let pl = &self.planes[(hit.prim - nb) as usize];
             let mut p = ray.at(hit.t);
             p -= (pl.normal.dot(p) - pl.offset) * pl.normal;
             // u, v: coordinates along the plane's frame (world units, so textures tile once per unit).
-            let f = crate::math::Frame::from_normal(pl.normal);
+            let f = Frame::from_normal(pl.normal);
             SurfaceHit {
                 p,
                 p_err: gamma(6) * (p.abs() + (pl.normal * pl.offset).abs()),
@@ -359,23 +368,50 @@ impl Primitives {
         let num_materials = materials.len() as u32;
         let mut prims = Primitives::default();
         let mut emitters = Vec::new();
-        let mut q =
-            world.query::<(hecs::Entity, &Shape, Option<&WorldFromLocal>, Option<&MaterialId>, Option<&Light>)>();
+        let mut q = world.query::<(
+            hecs::Entity,
+            &Shape,
+            Option<&WorldFromLocal>,
+            Option<&MaterialId>,
+            Option<&Light>,
+            Option<&crate::alpha::AlphaMask>,
+        )>();
         let mut items: Vec<_> = q.iter().collect();
         // Entity order is deterministic already; sort by id so the primitive order does not depend on archetypes.
         items.sort_by_key(|(e, ..)| e.id());
-        for (entity, shape, wfl, mat, light) in items {
+        for (entity, shape, wfl, mat, light, alpha) in items {
             let m = wfl.map(|w| w.0).unwrap_or(Affine3A::IDENTITY);
             let material = mat.map(|m| m.0).unwrap_or(0).min(num_materials.saturating_sub(1));
             let emits = matches!(light, Some(Light::Area { .. }));
             let light_slot = if emits { emitters.len() as u32 } else { NO_LIGHT };
             let first_tri = prims.num_tris();
             let mut sphere = None;
+            let mut curved = None;
             let name = || crate::load::entity_label(world, entity);
             match shape {
                 Shape::Sphere { center, radius } => {
                     sphere = Some(prims.spheres.len() as u32);
-                    prims.spheres.push(make_sphere(&m, (*center).into(), *radius, material, light_slot));
+                    prims.analytic.push(ShapeRef::Sphere(prims.spheres.len() as u32));
+                    prims.spheres.push(SphereGeom::new(&m, (*center).into(), *radius, material, light_slot));
+                    let b = prims.prim_bounds(prims.num_bounded() - 1);
+                    if !within_limits(b.min) || !within_limits(b.max) {
+                        return Err(beyond_limits(name(), "sphere", b.min.abs().max(b.max.abs())));
+                    }
+                }
+                Shape::Revolution { profile } => {
+                    curved = Some(prims.analytic.len() as u32);
+                    prims.analytic.push(ShapeRef::Revolution(prims.revolutions.len() as u32));
+                    prims.revolutions.push(Revolution::new(profile.clone(), to_f64(&m), material, light_slot));
+                }
+                Shape::BezierPatch { points } => {
+                    let w = to_f64(&m);
+                    let ctrl = points.map(|p| w.transform_point3(p.as_dvec3()));
+                    if ctrl.iter().any(|p| !p.is_finite()) {
+                        return Err(PrismError::scene(name(), "Bézier patch has non-finite control points"));
+                    }
+                    curved = Some(prims.analytic.len() as u32);
+                    prims.analytic.push(ShapeRef::Patch(prims.patches.len() as u32));
+                    prims.patches.push(BezierPatch::new(ctrl, material, light_slot));
                 }
                 Shape::Plane { normal, offset } => {
                     if emits {
@@ -390,10 +426,16 @@ impl Primitives {
                     let inv_t = m.matrix3.inverse().transpose();
                     let n_world = (inv_t * n_local).normalize();
                     let off = n_world.dot(m.transform_point3a(p0));
+                    if !(n_world.is_finite() && off.is_finite() && off.abs() <= crate::limits::MAX_COORDINATE) {
+                        return Err(beyond_limits(name(), "plane", Vec3A::splat(off.abs())));
+                    }
                     prims.planes.push(PlaneGeom { normal: n_world, offset: off, material });
                 }
                 Shape::Triangle { p, n, uv } => {
                     let v = p.map(|q| m.transform_point3a(q.into()));
+                    if let Some(far) = v.iter().find(|q| !within_limits(**q)) {
+                        return Err(beyond_limits(name(), "triangle", far.abs()));
+                    }
                     if !is_valid_triangle(&v) {
                         return Err(PrismError::scene(name(), "triangle has zero area (or non-finite vertices)"));
                     }
@@ -419,10 +461,13 @@ impl Primitives {
                     let tangents = materials
                         .get(material as usize)
                         .is_some_and(|mat| mat.needs_tangents())
-                        .then(|| crate::mesh_tangents::mikktspace_tangents(mesh));
+                        .then(|| crate::mesh_tangents::corner_tangents(mesh));
                     let det_sign = m.matrix3.determinant().signum();
                     for (f, idx) in mesh.indices.iter().enumerate() {
                         let v = idx.map(|i| world_pos[i as usize]);
+                        if let Some(far) = v.iter().find(|q| !within_limits(**q)) {
+                            return Err(beyond_limits(name(), &format!("mesh '{}'", mesh.name), far.abs()));
+                        }
                         if !is_valid_triangle(&v) {
                             prims.skipped_degenerate += 1;
                             continue;
@@ -456,75 +501,65 @@ impl Primitives {
                     }
                 }
             }
+            if let Some(mask) = alpha {
+                if sphere.is_some() {
+                    return Err(PrismError::scene(name(), "alpha masks apply to triangles and meshes, not spheres"));
+                }
+                prims.tri_alpha.resize(first_tri as usize, crate::alpha::NO_ALPHA);
+                prims.tri_alpha.resize(prims.tris.len(), prims.alpha_masks.len() as u32);
+                prims.alpha_masks.push(mask.clone());
+            }
             if emits {
                 let tri_count = prims.num_tris() - first_tri;
-                if tri_count == 0 && sphere.is_none() {
+                if tri_count == 0 && sphere.is_none() && curved.is_none() {
                     return Err(PrismError::scene(name(), "area light has no surface (all triangles degenerate)"));
                 }
-                emitters.push((entity, EntityPrims { first_tri, tri_count, sphere }));
+                emitters.push((entity, EntityPrims { first_tri, tri_count, sphere, curved }));
             }
+        }
+        if !prims.tri_alpha.is_empty() {
+            prims.tri_alpha.resize(prims.tris.len(), crate::alpha::NO_ALPHA);
         }
         prims.bounds = (0..prims.num_bounded()).fold(Bounds::EMPTY, |b, i| b.union(prims.prim_bounds(i)));
         Ok((prims, emitters))
     }
 }
 
+/// True when every coordinate of `p` is finite and within [`crate::limits::MAX_COORDINATE`].
+fn within_limits(p: Vec3A) -> bool {
+    p.is_finite() && p.abs().max_element() <= crate::limits::MAX_COORDINATE
+}
+
+/// The error for a shape that reaches `extent` (per-axis magnitude) in world space, beyond the coordinate limit.
+fn beyond_limits(entity: String, what: &str, extent: Vec3A) -> PrismError {
+    PrismError::scene(
+        entity,
+        format!(
+            "{what} reaches {:e} in world space, beyond Prism's coordinate limit of {:e} (or is not finite)",
+            extent.max_element(),
+            crate::limits::MAX_COORDINATE
+        ),
+    )
+}
+
 fn is_valid_triangle(v: &[Vec3A; 3]) -> bool {
     v.iter().all(|p| p.is_finite()) && (v[1] - v[0]).cross(v[2] - v[0]).length_squared() > 0.0
 }
 
+/// An f32 affine map in f64 (exactly).
+pub fn to_f64(m: &Affine3A) -> DAffine3 {
+    DAffine3 {
+        matrix3: DMat3::from_cols(
+            m.matrix3.x_axis.as_dvec3(),
+            m.matrix3.y_axis.as_dvec3(),
+            m.matrix3.z_axis.as_dvec3(),
+        ),
+        translation: m.translation.as_dvec3(),
+    }
+}
+
 fn transform_normal(m: &Affine3A, n: Vec3A) -> Vec3A {
     (m.matrix3.inverse().transpose() * n).normalize_or_zero()
-}
-
-/// A sphere under `m`: stored in world space if `m` is a similarity (rotation, uniform scale, translation),
-/// otherwise kept in object space with the transform (an ellipsoid).
-fn make_sphere(m: &Affine3A, center: Vec3A, radius: f32, material: u32, light: u32) -> SphereGeom {
-    let l = m.matrix3;
-    let (sx, sy, sz) = (l.x_axis.length(), l.y_axis.length(), l.z_axis.length());
-    let orthogonal = l.x_axis.dot(l.y_axis).abs() < 1e-6 * sx * sy
-        && l.y_axis.dot(l.z_axis).abs() < 1e-6 * sy * sz
-        && l.z_axis.dot(l.x_axis).abs() < 1e-6 * sz * sx;
-    let uniform = (sx - sy).abs() <= 1e-6 * sx && (sy - sz).abs() <= 1e-6 * sy;
-    if orthogonal && uniform {
-        return SphereGeom {
-            center: m.transform_point3a(center),
-            radius: radius * sx,
-            transform: None,
-            material,
-            light,
-        };
-    }
-    let inv = m.inverse();
-    SphereGeom {
-        center,
-        radius,
-        transform: Some(SphereTransform {
-            world_from_object: *m,
-            object_from_world: inv,
-            normal_to_world: inv.matrix3.transpose(),
-        }),
-        material,
-        light,
-    }
-}
-
-/// Spherical (u, v) in [0,1]^2 from a unit object-space normal, and dp/du, dp/dv for radius `r`: u around +y,
-/// 0.5 straight ahead along +z and growing towards +x (an image wrapped around the sphere reads left to right
-/// seen from outside), v = theta / pi from the north pole (+y, the image's top row) down.
-fn sphere_uv(n: Vec3A, r: f32) -> (Vec2, Vec3A, Vec3A) {
-    use std::f32::consts::PI;
-    let u = 0.5 + n.x.atan2(n.z) / (2.0 * PI);
-    let v = n.y.clamp(-1.0, 1.0).acos() / PI;
-    let sin_t = (n.x * n.x + n.z * n.z).sqrt();
-    let dpdu = 2.0 * PI * r * Vec3A::new(n.z, 0.0, -n.x);
-    let dpdv = if sin_t > 1e-6 {
-        PI * r * Vec3A::new(n.x * n.y / sin_t, -sin_t, n.z * n.y / sin_t)
-    } else {
-        // At the poles dp/du vanishes; any tangent orthogonal to the normal will do for dp/dv.
-        PI * r * Vec3A::new(0.0, 0.0, if n.y > 0.0 { 1.0 } else { -1.0 })
-    };
-    (Vec2::new(u, v), dpdu, dpdv)
 }
 
 /// dp/du and dp/dv of a triangle from its vertex uvs (pbrt-v4's formulas); a frame around the normal when the uvs

@@ -7,7 +7,7 @@ use glam::Affine3A;
 use hecs::{Entity, World};
 use std::collections::HashMap;
 
-pub fn propagate_transforms(world: &mut World, _res: &mut crate::app::Resources) -> Result<()> {
+pub fn propagate_transforms(world: &mut World, res: &mut crate::app::Resources) -> Result<()> {
     let nodes: HashMap<Entity, (Affine3A, Option<Entity>)> = world
         .query::<(Entity, Option<&Transform>, Option<&Parent>)>()
         .iter()
@@ -38,7 +38,8 @@ pub fn propagate_transforms(world: &mut World, _res: &mut crate::app::Resources)
         }
     }
     for (e, m) in resolved {
-        crate::load::check_affine(&m, &crate::load::entity_label(world, e))?;
+        crate::load::check_affine(&m, &crate::load::entity_label(world, e))
+            .map_err(|err| crate::render::in_scene_file(res, err))?;
         world.insert_one(e, WorldFromLocal(m)).map_err(|_| PrismError::invalid("entity vanished during Propagate"))?;
     }
     Ok(())

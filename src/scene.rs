@@ -12,6 +12,8 @@ use crate::material::Material;
 use crate::primitives::{Hit, NO_LIGHT, Primitives, SurfaceHit};
 use crate::texture::TextureSet;
 use glam::{Vec3, Vec3A};
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 pub struct Scene {
     pub camera: CameraRig,
@@ -21,12 +23,30 @@ pub struct Scene {
     pub materials: Vec<Material>,
     pub textures: TextureSet,
     pub globals: SceneGlobals,
+    /// Set when the render is cancelled (Ctrl-C): estimators whose work per sample can be huge (Whitted-style
+    /// branching) check it and return early; the sample is then discarded.
+    pub cancel: Arc<AtomicBool>,
 }
 
 impl Scene {
-    /// Closest hit along the ray (accelerator for bounded primitives, then the unbounded planes).
+    /// True once the render has been cancelled.
+    #[inline]
+    pub fn cancelled(&self) -> bool {
+        self.cancel.load(Ordering::Relaxed)
+    }
+
+    /// Closest hit along the ray (accelerator for bounded primitives, then the unbounded planes); hits on the
+    /// holes of alpha-masked triangles are skipped (see [`crate::alpha`]).
     #[inline]
     pub fn intersect(&self, ray: &Ray) -> Option<Hit> {
+        if self.prims.has_alpha() {
+            return self.intersect_through_alpha(ray);
+        }
+        self.intersect_opaque(ray)
+    }
+
+    #[inline]
+    fn intersect_opaque(&self, ray: &Ray) -> Option<Hit> {
         let hit = self.accel.intersect(&self.prims, ray);
         if self.prims.planes.is_empty() {
             return hit;
@@ -35,9 +55,35 @@ impl Scene {
         self.prims.intersect_planes(&r).or(hit)
     }
 
-    /// True when anything blocks the ray before `ray.tmax`.
+    /// Closest hit that an alpha mask does not let through: each skipped hit restarts the ray just behind the
+    /// surface (offset by its error bound) with `t` kept relative to the original ray. After 1024 crossed surfaces
+    /// the ray counts as escaped (nothing loops forever).
+    fn intersect_through_alpha(&self, ray: &Ray) -> Option<Hit> {
+        let mut r = *ray;
+        let mut t0 = 0.0f32;
+        for _ in 0..1024 {
+            let h = self.intersect_opaque(&r)?;
+            if !self.prims.alpha_passes(&h, &r) {
+                return Some(Hit { t: t0 + h.t, ..h });
+            }
+            let s = self.prims.surface(&r, &h);
+            let next = s.spawn(r.dir);
+            let dt = (next.origin - ray.origin).dot(ray.dir) / ray.dir.length_squared();
+            if dt.is_nan() || dt <= t0 || dt >= ray.tmax {
+                return None;
+            }
+            t0 = dt;
+            r = Ray { origin: next.origin, dir: ray.dir, tmax: ray.tmax - t0 };
+        }
+        None
+    }
+
+    /// True when anything blocks the ray before `ray.tmax` (alpha holes let it through).
     #[inline]
     pub fn occluded(&self, ray: &Ray) -> bool {
+        if self.prims.has_alpha() {
+            return self.intersect_through_alpha(ray).is_some();
+        }
         self.prims.planes_occlude(ray) || self.accel.occluded(&self.prims, ray)
     }
 
@@ -82,6 +128,6 @@ impl Scene {
         if s.light == NO_LIGHT {
             return Vec3::ZERO;
         }
-        self.lights.area_radiance(s.light, s.ng, wo)
+        self.lights.area_radiance(s.light, s, wo)
     }
 }

@@ -5,9 +5,11 @@ use crate::error::{PrismError, Result, SourcePos};
 use crate::sampling::{PixelFilter, PixelPattern, SamplerKind};
 use serde::de::DeserializeOwned;
 
-/// Largest accepted image side, and largest pixel count (a 16k x 16k film already needs 6 GiB of sums).
-pub const MAX_IMAGE_SIDE: u32 = 16384;
-pub const MAX_IMAGE_PIXELS: u64 = 1 << 28;
+/// Largest accepted image side and pixel count (see [`crate::limits`]).
+pub use crate::limits::{MAX_IMAGE_PIXELS, MAX_IMAGE_SIDE};
+
+/// Largest exposure in stops either way (2^100 still scales an f32 radiance without overflowing to infinity).
+pub const MAX_EXPOSURE: f32 = 100.0;
 
 /// A plugin chosen by name, with its parameter text as written in the scene (`phong(max_depth: 3)`), parsed by
 /// the plugin itself so that it owns its parameter struct.
@@ -277,13 +279,19 @@ impl RenderSettings {
             return Err(PrismError::invalid(format!("{} passes cannot split {spp} samples per pixel", self.passes)));
         }
         if let Some(t) = self.time_budget
-            && !(t.is_finite() && t > 0.0)
+            && !(t.is_finite() && t > 0.0 && t <= crate::limits::MAX_SECONDS)
         {
-            return Err(PrismError::invalid(format!("time budget must be a positive number of seconds, got {t}")));
+            return Err(PrismError::invalid(format!(
+                "time budget must be a positive number of seconds (at most {}), got {t}",
+                crate::limits::MAX_SECONDS
+            )));
         }
         self.filter.validate().map_err(PrismError::invalid)?;
-        if !self.exposure.is_finite() {
-            return Err(PrismError::invalid("exposure must be finite"));
+        if !(self.exposure.is_finite() && self.exposure.abs() <= MAX_EXPOSURE) {
+            return Err(PrismError::invalid(format!(
+                "exposure must be between -{MAX_EXPOSURE} and {MAX_EXPOSURE} stops, got {}",
+                self.exposure
+            )));
         }
         let (k, n) = self.shard;
         if n == 0 || k >= n {
@@ -322,4 +330,9 @@ pub struct Overrides {
     pub accel: Option<AccelKind>,
     pub exposure: Option<f32>,
     pub shard: Option<(u32, u32)>,
+    /// The camera to render from, by name, in files that hold several (glTF).
+    pub camera: Option<String>,
+    /// Render curved surfaces exactly where the scene asks for a tessellation (RON `tessellation`, the meshes
+    /// 6.837 assignment 8 scenes name).
+    pub exact_curves: bool,
 }

@@ -583,3 +583,47 @@ fn prism_bench_exports_its_rays_and_brute_force_answers() {
     let e = RaySetFile::read(&dir.join("short.prism-rays")).unwrap_err().to_string();
     assert!(e.contains("short.prism-rays") && e.contains("does not match its header"), "{e}");
 }
+
+/// Surfaces of revolution (the vase under a non-uniform scale and a rotation, the torus tilted) and Bézier
+/// patches (the teapot's, and the 6.837 patch scaled), with spheres, an ellipsoid, a quad and a plane.
+fn curved_scene_text() -> String {
+    format!(
+        r#"(camera: (eye: (0, 4, 14), target: (0, 0, 0)),
+        entities: [
+            (transform: [Translate((-4, 0, 0)), Rotate(axis: (0, 0, 1), degrees: 20), Scale((0.6, 0.5, 0.8))],
+             shape: Revolution(profile: BSpline([(0, -3, 0), (0, -3, 0), (0, -3, 0), (1.5, -3, 0), (2.5, 4, 0),
+                 (3, 4, 0), (2, -4, 0), (0, -4, 0), (0, -4, 0), (0, -4, 0)]))),
+            (transform: [Translate((3, 2, 0)), Rotate(axis: (1, 0, 0), degrees: 60), UniformScale(0.5)],
+             shape: Splines(path: "{}")),
+            (transform: [Translate((1, -2, 1))], shape: Splines(path: "{}")),
+            (transform: [Translate((-2, 2.5, -2)), Scale((1, 0.5, 1))], shape: Splines(path: "{}")),
+            (shape: Sphere(center: (0, 3, 0), radius: 0.7)),
+            (shape: Sphere(radius: 0.5), transform: [Translate((4, -1, 2)), Scale((2, 0.5, 1))]),
+            (shape: Quad(), transform: [Translate((0, 0, -3)), UniformScale(2)]),
+            (shape: Plane(normal: (0, 1, 0), offset: -5)),
+        ])"#,
+        data("mit6837/assignment8/spline8_06_torus.txt").display(),
+        data("mit6837/assignment8/spline8_09_teapot.txt").display(),
+        data("mit6837/assignment8/spline8_08_bezier_patch.txt").display(),
+    )
+}
+
+#[test]
+fn every_accelerator_matches_brute_force_on_surfaces_of_revolution_and_bezier_patches() {
+    let text = curved_scene_text();
+    let truth_app = setup_ron(&text, AccelKind::Brute);
+    let truth = scene(&truth_app);
+    assert_eq!(truth.prims.revolutions.len(), 1 + 1 + 2, "vase, torus, the teapot's body and lid");
+    assert_eq!(truth.prims.patches.len(), 8 + 1);
+    let camera = camera_rays(truth, 48, 48);
+    let (bounce, shadow) = secondary_rays(truth, &camera, 3);
+    let mut all = rays(truth, 6_000, 21);
+    all.extend(camera);
+    all.extend(bounce);
+    all.extend(shadow);
+    for kind in accelerators() {
+        let app = setup_ron(&text, kind);
+        let hits = assert_matches_brute("curved surfaces", scene(&app), truth, &all);
+        assert!(hits > 3_000, "only {hits} rays hit: the test would be weak");
+    }
+}

@@ -234,3 +234,59 @@ fn rays_leaving_the_scene_see_the_environment_in_every_integrator() {
         assert!((img.get(4, 4) - 0.5 * sky).abs().max_element() < 1e-6, "{integrator}: mirror shows {}", img.get(4, 4));
     }
 }
+
+/// The semicircle-like B-spline profile of `curves.rs` (radius 1 within 1e-9), as RON control points.
+fn sphere_profile_ron(radius: f64) -> String {
+    let n = 64;
+    let phi = PI / n as f64;
+    let rho = radius * 3.0 / (2.0 + phi.cos());
+    let pts: Vec<String> = (-1..=n + 1)
+        .map(|k| {
+            let a = -PI / 2.0 + k as f64 * phi;
+            format!("({}, {}, 0)", rho * a.cos(), rho * a.sin())
+        })
+        .collect();
+    format!("BSpline([{}])", pts.join(", "))
+}
+
+#[test]
+fn lambertian_floor_inside_an_emitting_surface_of_revolution_reflects_rho_l() {
+    // A sphere-shaped surface of revolution whose profile runs from the south to the north pole faces inwards:
+    // its front (emitting) side surrounds the floor, so E = pi L and L_out = rho L, as for the sphere light.
+    let scene = format!(
+        "(camera: (eye: (0, 0.5, 0), target: (0, 0, 0), up: (0, 0, -1), size: (16, 16)),
+        render: (integrator: phong(light_samples: 4)),
+        materials: {{\"m\": Lambert(albedo: (0.6, 0.3, 0.9))}},
+        entities: [(shape: Quad(), material: \"m\", transform: [Rotate(axis: (1, 0, 0), degrees: -90)]),
+                   (shape: Revolution(profile: {}), light: Area(radiance: (2, 2, 2)))])",
+        sphere_profile_ron(3.0)
+    );
+    let img = render_ron(&scene, spp(64));
+    let m = img.mean();
+    let expect = Vec3::new(0.6, 0.3, 0.9) * 2.0;
+    assert!((m - expect).abs().max_element() < 0.01 * expect.max_element(), "mean {m}, expected {expect}");
+}
+
+#[test]
+fn a_flat_bezier_patch_light_matches_lamberts_polygon_formula() {
+    // The rectangle of the quad-light test as a flat bicubic patch (control points on a regular grid, facing
+    // down: S_u x S_v = x x z = -y), sampled through its parameter square.
+    let (l, rho) = (5.0, 0.7);
+    let pts: Vec<String> =
+        (0..16).map(|k| format!("({}, 0.8, {})", -0.2 + (k % 4) as f64 / 3.0, -0.3 + 0.2 * (k / 4) as f64)).collect();
+    let scene = format!(
+        "({TOP_CAMERA}, render: (integrator: phong(light_samples: 16)), materials: {{\"m\": Lambert(albedo: ({rho}, {rho}, {rho}))}},
+          entities: [(shape: Plane(), material: \"m\"),
+                     (shape: BezierPatch(points: [{}]), light: Area(radiance: ({l}, {l}, {l})))])",
+        pts.join(", ")
+    );
+    let img = render_ron(&scene, spp(64));
+    let verts = [
+        DVec3::new(-0.2, 0.8, -0.3),
+        DVec3::new(0.8, 0.8, -0.3),
+        DVec3::new(0.8, 0.8, 0.3),
+        DVec3::new(-0.2, 0.8, 0.3),
+    ];
+    let visible = |x: f64, z: f64| !((-0.2..=0.8).contains(&x) && (-0.3..=0.3).contains(&z));
+    compare_to(&img, 0.03, 1e-3, &visible, &|x, z| rho / PI * polygon_irradiance(DVec3::new(x, 0.0, z), &verts, l));
+}

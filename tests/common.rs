@@ -163,3 +163,119 @@ pub fn downsample(img: &prism::io::Image, factor: u32) -> prism::io::Image {
     }
     prism::io::Image::new(w, h, px)
 }
+
+/// How a run of the `prism` binary ended.
+#[derive(Debug)]
+pub struct Run {
+    /// Exit code (None: killed by a signal, or by the timeout).
+    pub code: Option<i32>,
+    pub timed_out: bool,
+    pub stdout: String,
+    pub stderr: String,
+    pub seconds: f64,
+}
+
+impl Run {
+    /// A clean error: exit code 1 and one `error: ...` line (warnings may precede it), no panic.
+    pub fn is_clean_error(&self) -> bool {
+        let errors: Vec<&str> = self.stderr.lines().filter(|l| l.starts_with("error:")).collect();
+        self.code == Some(1) && errors.len() == 1 && !self.panicked()
+    }
+    pub fn panicked(&self) -> bool {
+        self.stderr.contains("panicked") || self.code == Some(101)
+    }
+    /// The `error: ...` line, if any.
+    pub fn error_line(&self) -> &str {
+        self.stderr.lines().find(|l| l.starts_with("error:")).unwrap_or("")
+    }
+}
+
+/// Run the `prism` binary with a timeout (killed when it expires), reading its output as it runs.
+pub fn prism_run(args: &[&std::ffi::OsStr], timeout: std::time::Duration) -> Run {
+    use std::io::Read;
+    let t0 = std::time::Instant::now();
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_prism"))
+        .args(args)
+        .stdin(std::process::Stdio::null())
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("cannot run prism");
+    let mut out = child.stdout.take().unwrap();
+    let mut err = child.stderr.take().unwrap();
+    let t_out = std::thread::spawn(move || {
+        let mut s = Vec::new();
+        let _ = out.read_to_end(&mut s);
+        s
+    });
+    let t_err = std::thread::spawn(move || {
+        let mut s = Vec::new();
+        let _ = err.read_to_end(&mut s);
+        s
+    });
+    let mut timed_out = false;
+    let status = loop {
+        if let Some(s) = child.try_wait().unwrap() {
+            break Some(s);
+        }
+        if t0.elapsed() > timeout {
+            timed_out = true;
+            let _ = child.kill();
+            let _ = child.wait();
+            break None;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    };
+    let stdout = String::from_utf8_lossy(&t_out.join().unwrap()).into_owned();
+    let stderr = String::from_utf8_lossy(&t_err.join().unwrap()).into_owned();
+    Run { code: status.and_then(|s| s.code()), timed_out, stdout, stderr, seconds: t0.elapsed().as_secs_f64() }
+}
+
+/// [`prism_run`] with string arguments and a 60-second timeout.
+pub fn prism_args(args: &[&str]) -> Run {
+    let a: Vec<&std::ffi::OsStr> = args.iter().map(std::ffi::OsStr::new).collect();
+    prism_run(&a, std::time::Duration::from_secs(60))
+}
+
+/// A forged OpenEXR file: a valid scan-line header (B, G, R half channels, no compression, or ZIP when `zip`)
+/// claiming `width x height` pixels, followed by `tail` bytes of zeros.
+pub fn forged_exr(width: i32, height: i32, zip: bool, tail: usize) -> Vec<u8> {
+    fn attr(out: &mut Vec<u8>, name: &str, ty: &str, data: &[u8]) {
+        out.extend_from_slice(name.as_bytes());
+        out.push(0);
+        out.extend_from_slice(ty.as_bytes());
+        out.push(0);
+        out.extend_from_slice(&(data.len() as i32).to_le_bytes());
+        out.extend_from_slice(data);
+    }
+    let mut h = vec![0x76, 0x2f, 0x31, 0x01, 2, 0, 0, 0];
+    let mut ch = Vec::new();
+    for n in ["B", "G", "R"] {
+        ch.extend_from_slice(n.as_bytes());
+        ch.push(0);
+        ch.extend_from_slice(&1i32.to_le_bytes()); // half
+        ch.extend_from_slice(&[0, 0, 0, 0]);
+        ch.extend_from_slice(&1i32.to_le_bytes());
+        ch.extend_from_slice(&1i32.to_le_bytes());
+    }
+    ch.push(0);
+    attr(&mut h, "channels", "chlist", &ch);
+    attr(&mut h, "compression", "compression", &[if zip { 3 } else { 0 }]);
+    let window: Vec<u8> = [0, 0, width - 1, height - 1].iter().flat_map(|v: &i32| v.to_le_bytes()).collect();
+    attr(&mut h, "dataWindow", "box2i", &window);
+    attr(&mut h, "displayWindow", "box2i", &window);
+    attr(&mut h, "lineOrder", "lineOrder", &[0]);
+    attr(&mut h, "pixelAspectRatio", "float", &1f32.to_le_bytes());
+    attr(&mut h, "screenWindowCenter", "v2f", &[0; 8]);
+    attr(&mut h, "screenWindowWidth", "float", &1f32.to_le_bytes());
+    h.push(0);
+    h.extend(std::iter::repeat_n(0u8, tail));
+    h
+}
+
+/// A forged Radiance HDR file: a valid header claiming `width x height` pixels, followed by `tail` bytes.
+pub fn forged_hdr(width: u32, height: u32, tail: &[u8]) -> Vec<u8> {
+    let mut h = format!("#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y {height} +X {width}\n").into_bytes();
+    h.extend_from_slice(tail);
+    h
+}

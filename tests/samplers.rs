@@ -265,6 +265,7 @@ fn camera(aperture: f32, focus: f32) -> CameraRig {
         height: 256,
         aperture_radius: aperture,
         focus_distance: focus,
+        ..Camera::default()
     };
     CameraRig::new(&cam, &glam::Affine3A::IDENTITY).unwrap()
 }

@@ -98,6 +98,13 @@ impl Plugin for DebugPlugin {
                 {
                     return Err(PrismError::invalid(format!("debug: max must be positive, got {m}")));
                 }
+                for (name, v) in [("near", p.near), ("far", p.far)] {
+                    if let Some(v) = v
+                        && !v.is_finite()
+                    {
+                        return Err(PrismError::invalid(format!("debug: {name} must be a finite distance, got {v}")));
+                    }
+                }
                 Ok(match p.mode {
                     DebugMode::Heat => Box::new(HeatMap { params: p, announced: false }),
                     _ => Box::new(PerPixel(DebugView { params: p, near: 0.0, far: 1.0, max_count: 1 })),

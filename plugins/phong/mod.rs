@@ -87,6 +87,11 @@ impl Phong {
     }
 
     fn trace(&self, scene: &Scene, ray: &Ray, rng: &mut Rng, depth: u32, weight: f32) -> Vec3 {
+        // Mirror and glass branches multiply (2^max_depth rays per sample): a cancelled render stops at once
+        // (the sample is discarded).
+        if scene.cancelled() {
+            return Vec3::ZERO;
+        }
         let Some(s) = scene.trace(ray) else {
             return scene.escaped(ray.dir);
         };

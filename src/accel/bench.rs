@@ -132,6 +132,7 @@ pub fn bench_scene(path: &Path, opts: &BenchOptions, pool: &rayon::ThreadPool) -
         materials: vec![],
         textures: Default::default(),
         globals: scene.globals,
+        cancel: Default::default(),
     };
     let (bounce, shadow) = secondary_rays(&scene_for_rays, &camera, 1);
     if let Some(dir) = &opts.export_rays {

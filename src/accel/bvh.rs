@@ -1,5 +1,5 @@
 //! BVH via obvhs: a compressed 8-wide BVH (CWBVH, Ylitie et al. 2017) built by PLOC with reinsertion over the
-//! bounds of all bounded primitives, analytic spheres included. After the build, primitive data is copied into
+//! bounds of all bounded primitives, analytic shapes included (through `Primitives`' one analytic dispatch). After the build, primitive data is copied into
 //! BVH leaf order (`slot_tris`, `slot_ids`) so traversal reads triangles sequentially; obvhs hands the traversal
 //! closure a slot, never our primitive id.
 
@@ -13,12 +13,12 @@ use std::time::Duration;
 
 pub struct BvhAccel {
     bvh: CwBvh,
-    /// Vertices of the triangle in each slot (zero for sphere slots).
+    /// Vertices of the triangle in each slot (zero for analytic shapes' slots).
     slot_tris: Vec<TriSoa>,
     /// Primitive id of each slot.
     slot_ids: Vec<u32>,
     num_tris: u32,
-    /// No spheres: every slot is a triangle and the traversal closure skips the per-slot type check.
+    /// No analytic shapes: every slot is a triangle and the traversal closure skips the per-slot type check.
     triangles_only: bool,
     pub(super) build_time: Duration,
 }
@@ -38,6 +38,9 @@ impl BvhAccel {
             .collect();
         let bvh = if aabbs.is_empty() {
             CwBvh::default()
+        } else if super::bvh_fallback::needs_fallback(&aabbs) {
+            // Many primitives in one Morton cell make PLOC quadratic and its tree a chain: build top-down instead.
+            obvhs::cwbvh::bvh2_to_cwbvh::bvh2_to_cwbvh(&super::bvh_fallback::build_bvh2(&aabbs), 3, true, false)
         } else {
             obvhs::cwbvh::builder::build_cwbvh(&aabbs, BvhBuildParams::medium_build(), &mut Duration::default())
         };
@@ -52,7 +55,7 @@ impl BvhAccel {
             slot_tris,
             slot_ids,
             num_tris: nt,
-            triangles_only: prims.spheres.is_empty(),
+            triangles_only: prims.triangles_only(),
             build_time: Duration::ZERO,
         }
     }
@@ -63,7 +66,18 @@ impl BvhAccel {
         if id < self.num_tris {
             wt.intersect_soa(&self.slot_tris[slot], ray.tmax).map(|h| Hit { t: h.t, prim: id, b1: h.b1, b2: h.b2 })
         } else {
-            prims.intersect_sphere(id, ray)
+            prims.intersect_analytic(id, ray)
+        }
+    }
+
+    /// Does the primitive in `slot` block the ray? (Analytic shapes may stop at their first hit.)
+    #[inline(always)]
+    fn blocks_slot(&self, prims: &Primitives, slot: usize, ray: &Ray, wt: &WatertightRay) -> bool {
+        let id = self.slot_ids[slot];
+        if id < self.num_tris {
+            wt.intersect_soa(&self.slot_tris[slot], ray.tmax).is_some()
+        } else {
+            prims.occludes_analytic(id, ray)
         }
     }
 
@@ -136,9 +150,8 @@ impl Accelerator for BvhAccel {
             return false;
         }
         let wt = WatertightRay::new(ray);
-        !self.bvh.ray_traverse_miss(to_obvhs(ray), |_, slot| match self.hit_slot(prims, slot, ray, &wt) {
-            Some(h) => h.t,
-            None => f32::INFINITY,
+        !self.bvh.ray_traverse_miss(to_obvhs(ray), |_, slot| {
+            if self.blocks_slot(prims, slot, ray, &wt) { f32::NEG_INFINITY } else { f32::INFINITY }
         })
     }
 

@@ -10,9 +10,10 @@
 //! chosen by measurement (README, "Accelerators").
 //!
 //! Insertion. Primitives are world-space already (nested transforms composed): a triangle goes into every cell
-//! its exact vertices' triangle overlaps (separating-axis test against the cell, `tri_box.rs`); a sphere into the
-//! cells its bounding box overlaps (for an ellipsoid, the box of the 8 transformed corners of its local box), a
-//! world-space sphere only into those within its radius. Cells are padded by a few ulps so rounding never loses a
+//! its exact vertices' triangle overlaps (separating-axis test against the cell, `tri_box.rs`); an analytic shape
+//! into the cells its own conservative test accepts (`AnalyticShape::overlaps_box`: a world-space sphere by the
+//! distance from its centre, an ellipsoid by its box, revolutions and patches by the boxes of their seeding
+//! structures' leaves). Cells are padded by a few ulps so rounding never loses a
 //! reference. Planes are unbounded and stay outside (the `Scene` tests them).
 //!
 //! Traversal. The ray is clipped to the grid; the DDA steps to the neighbouring cell across the nearest cell
@@ -199,7 +200,7 @@ pub struct CellHit {
 pub struct UniformGrid {
     levels: Vec<Level>,
     refs: Vec<u32>,
-    /// The vertices of each reference's triangle (zero for spheres), in cell order: a cell's triangles are read
+    /// The vertices of each reference's triangle (zero for analytic shapes), in cell order: a cell's triangles are read
     /// from consecutive memory.
     ref_tris: Vec<TriSoa>,
     num_tris: u32,
@@ -467,8 +468,11 @@ impl UniformGrid {
                     counter.prim();
                     let hit = if id < self.num_tris {
                         wt.intersect_soa(tri, best.tmax).map(|h| Hit { t: h.t, prim: id, b1: h.b1, b2: h.b2 })
+                    } else if ANY {
+                        let r = Ray { tmax: best.tmax, ..*ray };
+                        prims.occludes_analytic(id, &r).then_some(Hit { t: 0.0, prim: id, b1: 0.0, b2: 0.0 })
                     } else {
-                        prims.intersect_sphere(id, &Ray { tmax: best.tmax, ..*ray })
+                        prims.intersect_analytic(id, &Ray { tmax: best.tmax, ..*ray })
                     };
                     if let Some(h) = hit {
                         best.tmax = h.t;
@@ -608,30 +612,21 @@ fn entry_normal(b: &Bounds, p: Vec3A, dir: Vec3A) -> Vec3A {
     best.1
 }
 
-/// Does bounded primitive `id` overlap the cell `b` (padded by rounding error)?
+/// Does bounded primitive `id` overlap the cell `b` (padded by rounding error)? Triangles by the exact
+/// separating-axis test; analytic shapes by their own conservative test (one dispatch for every kind).
 fn overlaps(prims: &Primitives, id: u32, b: &Bounds) -> bool {
     let ext = b.diagonal().max_element();
     let mag = b.min.abs().max(b.max.abs()).max_element();
     let pad = Vec3A::splat(1e-4 * ext + 8.0 * f32::EPSILON * mag);
     let (lo, hi) = (b.min - pad, b.max + pad);
-    let nt = prims.num_tris();
-    if id < nt {
+    if id < prims.num_tris() {
         return triangle_overlaps_box(&prims.tris[id as usize], lo, hi);
     }
-    let s = &prims.spheres[(id - nt) as usize];
     let pb = prims.prim_bounds(id);
     if pb.min.cmpgt(hi).any() || pb.max.cmplt(lo).any() {
         return false;
     }
-    match s.transform {
-        // Distance from the centre to the box.
-        None => {
-            let q = s.center.clamp(lo, hi);
-            let r = s.radius * (1.0 + 1e-5);
-            (q - s.center).length_squared() <= r * r
-        }
-        Some(_) => true,
-    }
+    prims.analytic_overlaps_box(id, &Bounds::new(lo, hi))
 }
 
 /// A clear error for resolutions with an empty axis, too many cells per axis, or too many cells in total.

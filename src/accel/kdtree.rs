@@ -12,8 +12,8 @@
 //!
 //! Leaves: each leaf's triangles are copied, four to a [`TriPacket`], into one array in leaf order, so a leaf is
 //! read from consecutive memory and its triangles are pre-filtered four at a time by the watertight edge test;
-//! only the survivors (usually none or one) go through the exact test that every accelerator shares. Spheres
-//! take lanes of their own and are tested directly. Primitives in several leaves may be tested more than once
+//! only the survivors (usually none or one) go through the exact test that every accelerator shares. Analytic
+//! shapes take lanes of their own and are tested through `Primitives`' analytic dispatch. Primitives in several leaves may be tested more than once
 //! (no mailboxes: the packet test is cheaper than the bookkeeping).
 //!
 //! Parameters ([`KdParams`]): traversal and intersection costs, the empty-space bonus, the leaf size below which
@@ -136,14 +136,14 @@ pub struct KdTree {
     pub(super) build_time: Duration,
 }
 
-/// Up to four primitives of one leaf: triangles in `tris` (lanes in `tri_lanes`), spheres (lanes in
-/// `sphere_lanes`) tested directly.
+/// Up to four primitives of one leaf: triangles in `tris` (lanes in `tri_lanes`), analytic shapes (lanes in
+/// `analytic_lanes`) tested directly.
 #[derive(Clone, Copy, Debug, Default)]
 struct LeafPacket {
     tris: TriPacket,
     ids: [u32; 4],
     tri_lanes: u8,
-    sphere_lanes: u8,
+    analytic_lanes: u8,
 }
 
 /// Pack each leaf's primitives (triangles first) into packets and point the leaf nodes at them.
@@ -158,8 +158,8 @@ fn pack_leaves(prims: &Primitives, data: KdTreeData) -> (Vec<KdNode>, Vec<LeafPa
                 return *n;
             }
             let ids = &data.prims[n.first() as usize..(n.first() + n.count()) as usize];
-            let (mut ordered, spheres): (Vec<u32>, Vec<u32>) = ids.iter().partition(|&&id| id < nt);
-            ordered.extend(spheres);
+            let (mut ordered, analytic): (Vec<u32>, Vec<u32>) = ids.iter().partition(|&&id| id < nt);
+            ordered.extend(analytic);
             let first = packets.len() as u32;
             for chunk in ordered.chunks(4) {
                 let mut p = LeafPacket { ids: [u32::MAX; 4], ..Default::default() };
@@ -170,7 +170,7 @@ fn pack_leaves(prims: &Primitives, data: KdTreeData) -> (Vec<KdNode>, Vec<LeafPa
                         p.tri_lanes |= 1 << lane;
                         verts.push(prims.tris[id as usize]);
                     } else {
-                        p.sphere_lanes |= 1 << lane;
+                        p.analytic_lanes |= 1 << lane;
                         verts.push([Vec3A::ZERO; 3]);
                     }
                 }
@@ -275,19 +275,22 @@ impl KdTree {
             }
             let first = n.first() as usize;
             for p in &self.packets[first..first + n.count() as usize] {
-                let lanes = p.tri_lanes | p.sphere_lanes;
+                let lanes = p.tri_lanes | p.analytic_lanes;
                 for _ in 0..lanes.count_ones() {
                     counter.prim();
                 }
-                let mut candidates = (wt.packet_candidates(&p.tris) & p.tri_lanes as u32) | p.sphere_lanes as u32;
+                let mut candidates = (wt.packet_candidates(&p.tris) & p.tri_lanes as u32) | p.analytic_lanes as u32;
                 while candidates != 0 {
                     let lane = candidates.trailing_zeros() as usize;
                     candidates &= candidates - 1;
                     let id = p.ids[lane];
                     let hit = if p.tri_lanes & (1 << lane) != 0 {
                         wt.intersect_soa(&p.tris.lane(lane), end).map(|h| Hit { t: h.t, prim: id, b1: h.b1, b2: h.b2 })
+                    } else if ANY {
+                        let r = Ray { tmax: end, ..*ray };
+                        prims.occludes_analytic(id, &r).then_some(Hit { t: 0.0, prim: id, b1: 0.0, b2: 0.0 })
                     } else {
-                        prims.intersect_sphere(id, &Ray { tmax: end, ..*ray })
+                        prims.intersect_analytic(id, &Ray { tmax: end, ..*ray })
                     };
                     if let Some(h) = hit {
                         end = h.t;

@@ -300,7 +300,7 @@ fn merge(a: Vec<Event>, b: Vec<Event>) -> Vec<Event> {
     out
 }
 
-/// Bounds of primitive `id` within voxel `v` (clipped triangle; box-cut sphere), grown by rounding error along
+/// Bounds of primitive `id` within voxel `v` (clipped triangle; the analytic shape's own clipped bounds), grown by rounding error along
 /// non-flat axes and clamped to `v`; `None` if it misses `v`.
 fn clipped_bounds(prims: &Primitives, id: u32, v: &Bounds) -> Option<Bounds> {
     let b = if id < prims.num_tris() {
@@ -309,12 +309,7 @@ fn clipped_bounds(prims: &Primitives, id: u32, v: &Bounds) -> Option<Bounds> {
         let grow = 4.0 * f32::EPSILON * mag + Vec3A::splat(1e-6) * v.diagonal();
         clipped_triangle_bounds(&prims.tris[id as usize], &Bounds::new(v.min - grow, v.max + grow))?
     } else {
-        let pb = prims.prim_bounds(id);
-        let b = Bounds::new(pb.min.max(v.min), pb.max.min(v.max));
-        if b.is_empty() {
-            return None;
-        }
-        b
+        prims.analytic_clip_bounds(id, v)?
     };
     let mag = b.min.abs().max(b.max.abs());
     let flat = b.min.cmpeq(b.max);

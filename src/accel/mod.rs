@@ -1,4 +1,5 @@
-//! Accelerators over the scene's bounded primitives (triangles and spheres; planes are kept aside by [`Scene`]).
+//! Accelerators over the scene's bounded primitives (triangles, and analytic shapes through one dispatch; planes
+//! are kept aside by [`Scene`]).
 //! Every accelerator answers the same two queries, closest hit and occlusion, with identical results up to exact
 //! ties (cross-checked against brute force in `tests/accel.rs`), plus a counted closest-hit query that reports the
 //! traversal work of one ray for heat maps. [`Accel`] is an enum, so the per-ray dispatch is a predictable
@@ -16,6 +17,7 @@
 pub mod bench;
 mod brute;
 mod bvh;
+mod bvh_fallback;
 mod clip;
 pub mod grid;
 pub mod kdtree;

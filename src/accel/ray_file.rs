@@ -106,7 +106,12 @@ impl RaySetFile {
 
     /// Read a file written by [`RaySetFile::write`], checking its header against its length before allocating.
     pub fn read(path: &Path) -> Result<Self> {
-        let bytes = std::fs::read(path).map_err(|e| PrismError::io(path, e))?;
+        Self::from_bytes(&crate::io::read_regular(path, "ray-set file")?, path)
+    }
+
+    /// Decode the bytes of a ray-set file (`path` only names it in errors), checking its header against its length
+    /// before allocating.
+    pub fn from_bytes(bytes: &[u8], path: &Path) -> Result<Self> {
         let bad = |m: &str| PrismError::format(path, m.to_string());
         if bytes.len() < 28 || &bytes[..8] != MAGIC {
             return Err(bad("not a Prism ray-set file (bad magic)"));

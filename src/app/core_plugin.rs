@@ -11,6 +11,7 @@ impl Plugin for CorePlugin {
 
     fn build(&self, app: &mut App) {
         app.add_system(Stage::Load, "load_scene", crate::load::load_scene_system)
+            .add_system(Stage::Load, "check_outputs", crate::load::check_outputs_system)
             .add_system(Stage::Propagate, "propagate_transforms", crate::propagate::propagate_transforms)
             .add_system(Stage::BuildAccel, "build_scene", crate::render::build_scene_system)
             .add_system(Stage::Prepare, "build_lights", crate::render::build_lights_system)

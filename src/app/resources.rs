@@ -108,6 +108,8 @@ pub struct Resources {
     pub resume: Option<PathBuf>,
     /// Where checkpoints and interruptions save the film (`.prism-film` beside the first image output).
     pub film_path: Option<PathBuf>,
+    /// Files the scene was read from (scene, meshes, textures, environment maps): outputs must not overwrite them.
+    pub inputs: Vec<PathBuf>,
     plugin_state: HashMap<TypeId, Box<dyn Any + Send + Sync>>,
 }
 

@@ -17,7 +17,6 @@ use crate::error::PrismError;
 use crate::settings::AccelKind;
 use clap::Args;
 use std::path::PathBuf;
-use std::time::Duration;
 
 #[derive(Args, Debug, Clone)]
 pub struct BenchArgs {
@@ -73,13 +72,28 @@ fn parse_kinds(s: &str, grid: Option<&[u32]>) -> Result<Vec<AccelKind>, PrismErr
 }
 
 pub fn run(args: BenchArgs) -> anyhow::Result<()> {
-    if args.threads == 0 || args.size == 0 {
-        return Err(PrismError::invalid("--threads and --size must be at least 1").into());
+    crate::limits::threads(args.threads)?;
+    if args.size == 0 || args.size > crate::limits::MAX_BENCH_SIZE {
+        return Err(PrismError::invalid(format!(
+            "--size must be between 1 and {}, got {}",
+            crate::limits::MAX_BENCH_SIZE,
+            args.size
+        ))
+        .into());
     }
-    if !(args.seconds.is_finite() && args.seconds > 0.0) {
+    let min = crate::limits::seconds(args.seconds, "--seconds")?;
+    if min.is_zero() {
         return Err(PrismError::invalid("--seconds must be positive").into());
     }
     let kinds = parse_kinds(&args.accel, args.grid.as_deref())?;
+    // Outputs are checked before the (long) measurements: the chart's directory is writable and no output is a scene.
+    if let Some(chart) = &args.chart {
+        crate::io::check_outputs(std::slice::from_ref(chart), &args.scenes)?;
+    }
+    if let Some(dir) = &args.export_rays {
+        std::fs::create_dir_all(dir).map_err(|e| PrismError::io(dir, e))?;
+        crate::io::check_writable_dir(&dir.join("rays.prism-rays"))?;
+    }
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(args.threads)
         .build()
@@ -87,7 +101,7 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
     let opts = BenchOptions {
         kinds,
         size: args.size,
-        min: Duration::from_secs_f64(args.seconds),
+        min,
         brute_limit: args.brute_limit,
         export_rays: args.export_rays.clone(),
     };
@@ -95,7 +109,7 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
     for path in &args.scenes {
         rows.extend(bench_scene(path, &opts, &pool)?);
     }
-    println!("{}", table(&rows, args.threads, args.size));
+    super::print_stdout(&format!("{}\n", table(&rows, args.threads, args.size)))?;
     if let Some(chart) = &args.chart {
         chart_of(&rows, args.threads).write_svg(chart)?;
         eprintln!("wrote {}", chart.display());

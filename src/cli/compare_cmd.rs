@@ -8,14 +8,19 @@ pub fn run(test: &Path, reference: &Path, json: bool) -> anyhow::Result<()> {
     let a = read_image(test)?;
     let b = read_image(reference)?;
     let m = compare(&a, &b)?;
-    if json {
-        println!("{}", m.to_json());
+    let text = if json {
+        format!("{}\n", m.to_json())
     } else {
         let v = |a: [f64; 3]| format!("({:.6}, {:.6}, {:.6})", a[0], a[1], a[2]);
-        println!("RMSE    {:.6}", m.rmse);
-        println!("relMSE  {:.6}", m.relmse);
-        println!("MAE     {:.6}", m.mae);
-        println!("mean    {}  reference {}", v(m.mean_test), v(m.mean_reference));
-    }
+        format!(
+            "RMSE    {:.6}\nrelMSE  {:.6}\nMAE     {:.6}\nmean    {}  reference {}\n",
+            m.rmse,
+            m.relmse,
+            m.mae,
+            v(m.mean_test),
+            v(m.mean_reference)
+        )
+    };
+    super::print_stdout(&text)?;
     Ok(())
 }

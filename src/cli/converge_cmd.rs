@@ -52,16 +52,28 @@ pub fn run(a: ConvergeArgs) -> anyhow::Result<()> {
     let budgets: Vec<Budget> = if !a.spp.is_empty() {
         a.spp.iter().map(|&n| Budget::Spp(n)).collect()
     } else if !a.times.is_empty() {
-        if a.times.iter().any(|t| !(t.is_finite() && *t > 0.0)) {
-            return Err(PrismError::invalid("--times must be positive numbers of seconds").into());
+        if a.times.iter().any(|t| !(t.is_finite() && *t > 0.0 && *t <= crate::limits::MAX_SECONDS)) {
+            return Err(PrismError::invalid(format!(
+                "--times must be positive numbers of seconds (at most {})",
+                crate::limits::MAX_SECONDS
+            ))
+            .into());
         }
         a.times.iter().map(|&t| Budget::Seconds(t)).collect()
     } else {
         return Err(PrismError::invalid("give the budgets with --spp N,N,... or --times S,S,...").into());
     };
-    if a.threads == Some(0) {
-        return Err(PrismError::invalid("--threads must be at least 1").into());
+    if let Some(t) = a.threads {
+        crate::limits::threads(t)?;
     }
+    // The output directory and every file written into it are checked before the first render: it exists (or is
+    // created) and is writable, and no result would overwrite an input (scene, its meshes and maps, reference, peer).
+    std::fs::create_dir_all(&a.output).map_err(|e| PrismError::io(&a.output, e))?;
+    let results = crate::converge::RESULT_FILES.map(|f| a.output.join(f));
+    let mut inputs = scene_inputs(&a.scene)?;
+    inputs.push(a.reference.clone());
+    inputs.extend(a.peer.iter().cloned());
+    crate::io::check_outputs(&results, &inputs)?;
     let reference = read_image(&a.reference)?;
     let peer: Option<PeerCurve> =
         a.peer.as_ref().map(|p| read_peer(p, &a.peer_scene, &a.peer_variant, a.peer_sampler.as_deref())).transpose()?;
@@ -88,14 +100,26 @@ pub fn run(a: ConvergeArgs) -> anyhow::Result<()> {
     }
     let pool = builder.build().map_err(|e| PrismError::invalid(format!("cannot start threads: {e}")))?;
     eprintln!("{:<40} {:>6} {:>9} {:>9} {:>10}", "integrator", "spp", "seconds", "cpu s", "RMSE");
+    let title = a.scene.file_stem().map(|s| s.to_string_lossy().to_string()).unwrap_or_default();
+    // Ctrl-C stops the render in progress; the points measured so far are written (they are rewritten after
+    // every point anyway, so even a killed run leaves its results).
+    let cancel = super::render_cmd::cancel_flag();
     let points = pool.install(|| {
-        measure(&a.scene, &reference, &a.integrators, &budgets, &base, crop, |p| {
+        measure(&a.scene, &reference, &a.integrators, &budgets, &base, crop, &cancel, |p, so_far| {
             let cpu = p.cpu_seconds.map_or("-".into(), |c| format!("{c:.3}"));
             eprintln!("{:<40} {:>6} {:>9.3} {:>9} {:>10.5}", p.integrator, p.spp, p.seconds, cpu, p.rmse);
+            write_results(&a.output, so_far, peer.as_ref(), &title).map(|_| ())
         })
     })?;
-    let title = a.scene.file_stem().map(|s| s.to_string_lossy().to_string()).unwrap_or_default();
     let files = write_results(&a.output, &points, peer.as_ref(), &title)?;
+    if cancel.load(std::sync::atomic::Ordering::Relaxed) {
+        return Err(anyhow::anyhow!(
+            "interrupted: wrote the {} of {} points measured so far to {}",
+            points.len(),
+            a.integrators.len() * budgets.len(),
+            a.output.display()
+        ));
+    }
     if let Some(peer) = &peer {
         // Equal-error time: when does each curve reach the peer's lowest error?
         let target = peer.points.iter().map(|p| p.2).fold(f64::INFINITY, f64::min);
@@ -126,4 +150,12 @@ pub fn run(a: ConvergeArgs) -> anyhow::Result<()> {
     }
     eprintln!("wrote {}", files.iter().map(|f| f.display().to_string()).collect::<Vec<_>>().join(", "));
     Ok(())
+}
+
+/// The files a scene reads (the scene itself, meshes, textures, environment maps): its Load stage alone.
+fn scene_inputs(scene: &std::path::Path) -> anyhow::Result<Vec<PathBuf>> {
+    let mut app = crate::app::App::with_default_plugins();
+    app.resources.source = crate::app::SceneSource::File(scene.to_path_buf());
+    app.run_stage(crate::app::Stage::Load)?;
+    Ok(std::mem::take(&mut app.resources.inputs))
 }

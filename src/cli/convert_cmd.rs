@@ -1,34 +1,55 @@
-//! `prism convert IN.txt -o OUT.ron`: a 6.837 scene written as the equivalent Prism RON scene (mesh paths
-//! relative to the output file). The result is parsed back before it is written, so a written file always loads.
+//! `prism convert IN.txt|IN.pbrt -o OUT.ron`: a 6.837 or pbrt scene written as the equivalent Prism RON scene
+//! (mesh and texture paths relative to the output file). The result is parsed back before it is written, so a
+//! written file always parses.
 
 use crate::error::PrismError;
-use crate::load::{mit6837, parse_scene};
+use crate::load::{mit6837, parse_scene, pbrt};
 use clap::Args;
 use std::path::{Path, PathBuf};
 
 #[derive(Args, Debug, Clone)]
 pub struct ConvertArgs {
-    /// A 6.837 scene file (.txt).
+    /// A 6.837 scene file (.txt) or a pbrt-v3/v4 scene (.pbrt).
     pub input: PathBuf,
     /// The RON scene to write (.ron).
     #[arg(short, long)]
     pub output: PathBuf,
+    /// Write assignment 8's meshes as the exact surfaces of their spline files (`tessellation: None`).
+    #[arg(long)]
+    pub exact_curves: bool,
 }
 
 pub fn run(args: ConvertArgs) -> anyhow::Result<()> {
     let ext = |p: &Path| p.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
-    if ext(&args.input) != "txt" {
-        return Err(PrismError::invalid(format!("{}: expected a 6.837 scene (.txt)", args.input.display())).into());
+    let input_ext = ext(&args.input);
+    if input_ext != "txt" && input_ext != "pbrt" {
+        return Err(PrismError::invalid(format!(
+            "{}: expected a 6.837 scene (.txt) or a pbrt scene (.pbrt)",
+            args.input.display()
+        ))
+        .into());
     }
     if ext(&args.output) != "ron" {
         return Err(PrismError::invalid(format!("{}: the output must be a .ron file", args.output.display())).into());
     }
+    crate::io::check_outputs(std::slice::from_ref(&args.output), std::slice::from_ref(&args.input))?;
     let out_dir = match args.output.parent() {
         Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
         _ => PathBuf::from("."),
     };
-    let text = mit6837::convert_file(&args.input, &out_dir)?.ron;
-    parse_scene(&text, &args.output)?;
+    let text = crate::load::with_loader_stack(|| {
+        let text = if input_ext == "pbrt" {
+            let c = pbrt::convert_file(&args.input, &out_dir)?;
+            for w in &c.warnings {
+                eprintln!("warning: {w}");
+            }
+            c.ron
+        } else {
+            mit6837::convert_file(&args.input, &out_dir, args.exact_curves)?.ron
+        };
+        parse_scene(&text, &args.output)?;
+        Ok(text)
+    })?;
     std::fs::write(&args.output, text).map_err(|e| PrismError::io(&args.output, e))?;
     Ok(())
 }

@@ -36,7 +36,7 @@ pub fn render_samples(
     let mut px = vec![Vec3::ZERO; (zw * zh) as usize];
     for y in 0..zh {
         for x in 0..zw {
-            let shade = if (x / zoom + y / zoom) % 2 == 0 { 0.15 } else { 0.25 };
+            let shade = if (x / zoom + y / zoom).is_multiple_of(2) { 0.15 } else { 0.25 };
             px[(y * zw + x) as usize] = Vec3::splat(shade);
         }
     }

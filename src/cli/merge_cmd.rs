@@ -28,6 +28,10 @@ pub struct MergeArgs {
 }
 
 pub fn run(a: MergeArgs) -> anyhow::Result<()> {
+    let max = crate::settings::MAX_EXPOSURE;
+    if !(a.exposure.is_finite() && a.exposure.abs() <= max) {
+        return Err(PrismError::invalid(format!("--exposure must be between -{max} and {max} stops")).into());
+    }
     for o in &a.output {
         let ext = o.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
         if ext != "png" && ext != "exr" && !is_film_path(o) {
@@ -37,14 +41,15 @@ pub fn run(a: MergeArgs) -> anyhow::Result<()> {
             ))
             .into());
         }
-        if a.parts.contains(o) {
+        if a.parts.iter().any(|p| p == o || crate::io::same_file(p, o)) {
             return Err(PrismError::invalid(format!("{}: the output would overwrite an input", o.display())).into());
         }
     }
+    crate::io::check_outputs(&a.output, &a.parts)?;
     let mut first = read_film(&a.parts[0])?;
     let n = first.header.shard.1;
-    let mut seen = vec![false; n as usize];
-    seen[first.header.shard.0 as usize] = true;
+    // The shard count comes from a file: keep the shards seen in a set, never a table sized by it.
+    let mut seen = std::collections::BTreeSet::from([first.header.shard.0]);
     let mut passes_done = first.header.passes_done;
     let mut spp_done = first.header.spp_done;
     let mut incomplete = vec![];
@@ -67,19 +72,22 @@ pub fn run(a: MergeArgs) -> anyhow::Result<()> {
         if h.shard.1 != n || h.axis != h0.axis {
             return Err(mismatch("shard count").into());
         }
-        let k = h.shard.0 as usize;
-        if seen[k] {
+        let k = h.shard.0;
+        if !seen.insert(k) {
             return Err(PrismError::format(path, format!("shard {k}/{n} is given twice")).into());
         }
-        seen[k] = true;
         if h.passes_done < h.passes {
             incomplete.push(format!("{k}/{n}"));
         }
         first.film.accumulate(&f.film);
         passes_done = passes_done.max(h.passes_done);
-        spp_done += if h.axis == ShardAxis::Passes { h.spp_done } else { 0 };
+        spp_done = spp_done.saturating_add(if h.axis == ShardAxis::Passes { h.spp_done } else { 0 });
     }
-    let missing: Vec<String> = seen.iter().enumerate().filter(|(_, s)| !**s).map(|(k, _)| format!("{k}/{n}")).collect();
+    let missing_count = n as usize - seen.len();
+    let mut missing: Vec<String> = (0..n).filter(|k| !seen.contains(k)).take(10).map(|k| format!("{k}/{n}")).collect();
+    if missing_count > missing.len() {
+        missing.push(format!("and {} more", missing_count - missing.len()));
+    }
     if !missing.is_empty() && !a.partial {
         return Err(PrismError::invalid(format!(
             "shards {} are missing (merge them all, or pass --partial for the image of those given)",

@@ -1,5 +1,5 @@
-//! The `prism` command line (clap), per DESIGN section 3: `render`, `compare`, `converge`, `bench`, `convert` and `report`,
-//! plus `raytracer` (6.837 course command lines).
+//! The `prism` command line (clap), per DESIGN section 3: `render`, `compare`, `converge`, `bench`, `convert`,
+//! `tessellate` and `report`, plus `raytracer` and `curve_editor` (6.837 course command lines).
 
 mod bench_cmd;
 mod compare_cmd;
@@ -10,6 +10,7 @@ mod merge_cmd;
 mod raytracer_cmd;
 mod render_cmd;
 mod report_cmd;
+mod tessellate_cmd;
 
 use clap::{Parser, Subcommand};
 use std::path::PathBuf;
@@ -37,6 +38,11 @@ pub enum Command {
     Raytracer(raytracer_cmd::RaytracerArgs),
     /// The speed-vs-accuracy and stability atlas of a suite: DIR/index.html with charts, images and CSV.
     Report(report_cmd::ReportArgs),
+    /// Tessellate a 6.837 spline file (surfaces of revolution, Bézier patches) into an OBJ mesh.
+    Tessellate(tessellate_cmd::TessellateArgs),
+    /// Run a 6.837 curve editor command line (`-input spline.txt -curve_tessellation 30 -output out.obj ...`).
+    #[command(name = "curve_editor")]
+    CurveEditor(tessellate_cmd::CurveEditorArgs),
     /// Compare an image with a reference: RMSE, relMSE, mean absolute error.
     Compare {
         /// The image to test (.exr or .png).
@@ -49,6 +55,18 @@ pub enum Command {
     },
 }
 
+/// Write `text` to stdout. A closed stdout (`prism compare a b | head -1`) ends the output quietly: broken pipes
+/// are not errors, and nothing panics; other write errors are reported.
+pub(crate) fn print_stdout(text: &str) -> anyhow::Result<()> {
+    use std::io::Write;
+    let mut out = std::io::stdout().lock();
+    match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
+        Ok(()) => Ok(()),
+        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
+        Err(e) => Err(crate::error::PrismError::io("standard output", e).into()),
+    }
+}
+
 /// Run a parsed command line. Errors are returned for `main` to print as one line.
 pub fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
@@ -59,6 +77,8 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Merge(args) => merge_cmd::run(args),
         Command::Raytracer(args) => raytracer_cmd::run(args),
         Command::Report(args) => report_cmd::run(args),
+        Command::Tessellate(args) => tessellate_cmd::run(args),
+        Command::CurveEditor(args) => tessellate_cmd::run_curve_editor(args),
         Command::Compare { test, reference, json } => compare_cmd::run(&test, &reference, json),
     }
 }

@@ -19,6 +19,7 @@
 //! | `-box_filter R`, `-tent_filter R`, `-gaussian_filter S` | `--filter box:R\|tent:R\|gaussian:S` (sampled by importance, the course's radii) |
 //! | `-render_samples F Z` | an image of every pixel's sample positions, `Z` texels per pixel |
 //! | `-render_filter F Z` | an image of the filter's weights around the centre pixel, `Z` texels per pixel |
+//! | `-exact_curves` (Prism's own) | `--exact-curves`: assignment 8's meshes as the exact surfaces of their spline files |
 //! | `-gui`, `-tessellation A B`, `-gouraud` | ignored (OpenGL preview) |
 //!
 //! Course depths are measured from the camera centre; for orthographic cameras, whose eye Prism moves back
@@ -60,6 +61,8 @@ pub struct CourseOptions {
     pub render_samples: Option<(PathBuf, u32)>,
     /// `-render_filter FILE ZOOM`.
     pub render_filter: Option<(PathBuf, u32)>,
+    /// Prism's own `-exact_curves`: assignment 8's meshes as exact curved surfaces.
+    pub exact_curves: bool,
 }
 
 /// Parse course options; unknown ones are errors naming the option.
@@ -125,6 +128,7 @@ pub fn parse_course_options(args: &[String]) -> Result<CourseOptions, PrismError
                 }
             }
             "-stats" => o.stats = true,
+            "-exact_curves" => o.exact_curves = true,
             "-gui" | "-gouraud" => {}
             "-tessellation" => {
                 take(&mut i, opt)?;
@@ -134,8 +138,8 @@ pub fn parse_course_options(args: &[String]) -> Result<CourseOptions, PrismError
                 return Err(PrismError::invalid(format!(
                     "unsupported 6.837 option `{other}` (supported: -input -size -output -depth -normals -shadows \
                      -bounces -weight -shade_back -grid -visualize_grid -stats -random_samples -uniform_samples \
-                     -jittered_samples -box_filter -tent_filter -gaussian_filter -render_samples -render_filter; \
-                     -gui -tessellation -gouraud are ignored)"
+                     -jittered_samples -box_filter -tent_filter -gaussian_filter -render_samples -render_filter, and Prism's \
+                     -exact_curves;                      -gui -tessellation -gouraud are ignored)"
                 )));
             }
         }
@@ -176,11 +180,14 @@ pub fn run(args: RaytracerArgs) -> anyhow::Result<()> {
         quiet: true,
         shard: None,
         resume: None,
+        camera: None,
+        exact_curves: o.exact_curves,
     };
     if o.stats {
         let mut app = crate::App::with_default_plugins();
         app.resources.source = crate::app::SceneSource::File(input.clone());
         app.resources.overrides.accel = super::render_cmd::accel_override(None, o.grid.as_ref().map(|g| &g[..]))?;
+        app.resources.overrides.exact_curves = o.exact_curves;
         app.setup()?;
         let s = app.resources.scene()?.accel.stats();
         eprintln!(
@@ -205,7 +212,8 @@ pub fn run(args: RaytracerArgs) -> anyhow::Result<()> {
         render(base(out.clone(), integrator))?;
     }
     if let Some((near, far, out)) = &o.depth {
-        let back = mit6837::convert_file(&input, Path::new("."))?.eye_back;
+        let back =
+            crate::load::with_loader_stack(|| mit6837::convert_file(&input, Path::new("."), o.exact_curves))?.eye_back;
         let (near, far, raw) = (near + back, far + back, is_tga(out));
         render(base(out.clone(), format!("debug(mode: depth, near: {near:?}, far: {far:?}, raw: {raw})")))?;
     }

@@ -11,11 +11,11 @@ use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, OnceLock};
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 #[derive(Args, Debug, Clone)]
 pub struct RenderArgs {
-    /// Scene file: .ron (Prism scene) or .obj (mesh with an automatic camera and headlight).
+    /// Scene file: .ron (Prism scene), .obj or .ply (mesh with an automatic camera and headlight), .gltf/.glb, .pbrt, or a 6.837 .txt.
     pub scene: PathBuf,
     /// Output image(s); .png (sRGB), .exr (linear) or .tga (the 6.837 course's linear 8-bit). Repeat for several. Default: SCENE-NAME.png.
     #[arg(short, long = "output")]
@@ -69,10 +69,17 @@ pub struct RenderArgs {
     /// write it with `-o part.prism-film` and combine the parts with `prism merge`.
     #[arg(long, value_parser = parse_shard)]
     pub shard: Option<(u32, u32)>,
+    /// The camera to render from, by camera or node name, for scene files with several (glTF); default the first.
+    #[arg(long)]
+    pub camera: Option<String>,
     /// Continue the render saved in a `.prism-film` file (same scene and settings); the result equals an
     /// uninterrupted render bit for bit.
     #[arg(long)]
     pub resume: Option<PathBuf>,
+    /// Render curved surfaces (revolutions, Bézier patches) exactly where the scene asks for a tessellation: RON
+    /// `tessellation`, and the meshes 6.837 assignment 8 scenes name.
+    #[arg(long)]
+    pub exact_curves: bool,
 }
 
 /// `K/N` with `K < N`.
@@ -138,7 +145,7 @@ pub(super) fn parse_size(s: &str) -> Result<(u32, u32), String> {
 }
 
 /// The process-wide cancel flag, set by Ctrl-C.
-fn cancel_flag() -> Arc<AtomicBool> {
+pub(super) fn cancel_flag() -> Arc<AtomicBool> {
     static FLAG: OnceLock<Arc<AtomicBool>> = OnceLock::new();
     FLAG.get_or_init(|| {
         let flag = Arc::new(AtomicBool::new(false));
@@ -155,14 +162,10 @@ fn cancel_flag() -> Arc<AtomicBool> {
 }
 
 pub fn run(args: RenderArgs) -> anyhow::Result<()> {
-    if let Some(t) = args.threads
-        && t == 0
-    {
-        return Err(PrismError::invalid("--threads must be at least 1").into());
+    if let Some(t) = args.threads {
+        crate::limits::threads(t)?;
     }
-    if !(args.checkpoint.is_finite() && args.checkpoint >= 0.0) {
-        return Err(PrismError::invalid("--checkpoint must be a non-negative number of seconds").into());
-    }
+    let checkpoint = crate::limits::seconds(args.checkpoint, "--checkpoint")?;
     let outputs = if args.output.is_empty() {
         let stem = args.scene.file_stem().map(|s| s.to_string_lossy().to_string()).unwrap_or_else(|| "out".into());
         vec![PathBuf::from(format!("{stem}.png"))]
@@ -196,6 +199,8 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
         accel: accel_override(args.accel, args.grid.as_deref())?,
         exposure: args.exposure,
         shard: args.shard,
+        camera: args.camera.clone(),
+        exact_curves: args.exact_curves,
     };
     r.outputs = outputs.clone();
     r.resume = args.resume.clone();
@@ -205,7 +210,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
         .find(|o| crate::io::is_film_path(o))
         .cloned()
         .or_else(|| outputs.first().map(|o| o.with_extension("prism-film")));
-    r.checkpoint_every = (args.checkpoint > 0.0).then(|| Duration::from_secs_f64(args.checkpoint));
+    r.checkpoint_every = (!checkpoint.is_zero()).then_some(checkpoint);
     r.cancel = cancel_flag();
     r.show_progress = !args.quiet && std::io::stderr().is_terminal();
     let mut builder = rayon::ThreadPoolBuilder::new();

@@ -3,38 +3,26 @@
 
 use super::EnvImage;
 use crate::error::{PrismError, Result};
-use glam::Vec3;
 use std::path::Path;
 
 /// The image and the number of texels that were clamped to 0.
 pub fn read(path: &Path) -> Result<(EnvImage, usize)> {
-    if !path.is_file() {
-        return Err(PrismError::io(
-            path,
-            std::io::Error::new(std::io::ErrorKind::NotFound, "environment map not found"),
-        ));
-    }
+    let (file, len) = crate::io::open_regular(path, "environment map")?;
     let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
-    let (width, height, mut texels) = match ext.as_str() {
-        "hdr" | "pic" => {
-            let file = std::fs::File::open(path).map_err(|e| PrismError::io(path, e))?;
-            let decoder = image::codecs::hdr::HdrDecoder::new(std::io::BufReader::new(file))
-                .map_err(|e| PrismError::format(path, format!("not a readable Radiance HDR file: {e}")))?;
-            let img = image::DynamicImage::from_decoder(decoder)
-                .map_err(|e| PrismError::format(path, format!("cannot decode Radiance HDR data: {e}")))?
-                .into_rgb32f();
-            let (w, h) = img.dimensions();
-            let texels = img.pixels().map(|p| Vec3::new(p[0], p[1], p[2])).collect::<Vec<_>>();
-            (w, h, texels)
-        }
-        "exr" => {
-            let img = crate::io::read_exr(path)?;
-            (img.width, img.height, img.pixels)
-        }
+    let img = match ext.as_str() {
+        "hdr" | "pic" => crate::io::read_hdr_from(std::io::BufReader::new(file), len, path)?,
+        "exr" => crate::io::read_exr_from(std::io::BufReader::new(file), len, path)?,
         _ => {
             return Err(PrismError::format(path, "unsupported environment map format (expected .hdr or .exr)"));
         }
     };
+    from_image(img, path)
+}
+
+/// A decoded image as an environment image (`path` names it in errors): NaN and negative texels become 0,
+/// infinite texels are an error.
+pub fn from_image(img: crate::io::Image, path: &Path) -> Result<(EnvImage, usize)> {
+    let (width, height, mut texels) = (img.width, img.height, img.pixels);
     if width == 0 || height == 0 || texels.len() != width as usize * height as usize {
         return Err(PrismError::format(path, format!("environment map has no pixels ({width}x{height})")));
     }
@@ -53,7 +41,7 @@ pub fn read(path: &Path) -> Result<(EnvImage, usize)> {
         }
     }
     if clamped > 0 {
-        eprintln!("warning: {}: {clamped} NaN or negative texel values set to 0", path.display());
+        crate::error::warn(&format!("{}: {clamped} NaN or negative texel values set to 0", path.display()));
     }
     Ok((EnvImage { width, height, texels }, clamped))
 }

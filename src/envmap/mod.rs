@@ -150,19 +150,34 @@ impl EnvMap {
         }
     }
 
+    /// A map from one decoded image (equirect or cross; `path` names it in errors), as [`EnvMap::load`] makes it
+    /// from a file: texels checked, layout guessed from the aspect ratio unless given.
+    pub fn from_image(image: crate::io::Image, path: &Path, layout: Option<SourceLayout>) -> Result<Self> {
+        if layout == Some(SourceLayout::Faces) {
+            return Err(PrismError::invalid("a six-face environment map is six files"));
+        }
+        Self::from_single(image_file::from_image(image, path)?, path, layout)
+    }
+
     fn from_single(img: (EnvImage, usize), path: &Path, layout: Option<SourceLayout>) -> Result<Self> {
         let (image, clamped) = img;
         let (w, h) = (image.width, image.height);
-        let layout = layout.unwrap_or(if w == 2 * h {
-            SourceLayout::Equirect
-        } else if 4 * w == 3 * h {
-            SourceLayout::Cross
-        } else {
-            return Err(PrismError::format(
-                path,
-                format!("cannot tell the layout of a {w}x{h} map: expected 2:1 (equirect) or 3:4 (vertical cross)"),
-            ));
-        });
+        // A given layout is used whatever the aspect ratio; only a missing one is guessed. (An `unwrap_or` here
+        // evaluated the guess, and its error for unusual ratios, even when the layout was given.)
+        let layout = match layout {
+            Some(l) => l,
+            None if w == 2 * h => SourceLayout::Equirect,
+            None if 4 * w == 3 * h => SourceLayout::Cross,
+            None => {
+                return Err(PrismError::format(
+                    path,
+                    format!(
+                        "cannot tell the layout of a {w}x{h} map: expected 2:1 (equirect) or 3:4 (vertical cross); \
+                         give `layout: Equirect` to use it as a panorama"
+                    ),
+                ));
+            }
+        };
         let mut map = match layout {
             SourceLayout::Equirect => EnvMap::equirect(image),
             SourceLayout::Cross => {

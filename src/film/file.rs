@@ -139,11 +139,11 @@ impl Reader<'_> {
 
 /// Read and check a film file.
 pub fn read_film(path: &Path) -> Result<FilmFile> {
-    let meta = std::fs::metadata(path).map_err(|e| PrismError::io(path, e))?;
-    if !meta.is_file() {
-        return Err(PrismError::format(path, "not a regular file"));
-    }
-    let bytes = std::fs::read(path).map_err(|e| PrismError::io(path, e))?;
+    parse_film(&crate::io::read_regular(path, "film file")?, path)
+}
+
+/// Check and decode the bytes of a film file (`path` only names it in errors).
+pub fn parse_film(bytes: &[u8], path: &Path) -> Result<FilmFile> {
     if bytes.len() < 8 + 4 || &bytes[..8] != MAGIC {
         return Err(PrismError::format(path, "not a Prism film file (bad magic)"));
     }

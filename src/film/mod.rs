@@ -10,7 +10,7 @@
 pub mod file;
 pub mod fixed;
 
-pub use file::{FilmFile, FilmHeader, ShardAxis, read_film, write_film};
+pub use file::{FilmFile, FilmHeader, ShardAxis, parse_film, read_film, write_film};
 pub use fixed::FixedRgb;
 
 use crate::integrator::{PassOutput, TileSamples};
@@ -101,10 +101,11 @@ impl Film {
         for (a, b) in self.sum.iter_mut().zip(&other.sum) {
             a.add(*b);
         }
+        // Counts from files: saturate rather than wrap (a forged film must not overflow).
         for (a, b) in self.count.iter_mut().zip(&other.count) {
-            *a += b;
+            *a = a.saturating_add(*b);
         }
-        self.nonfinite += other.nonfinite;
+        self.nonfinite = self.nonfinite.saturating_add(other.nonfinite);
     }
 
     /// The partial pass's sums and counts per pixel (zero where it has none).
@@ -139,7 +140,7 @@ impl Film {
                 let (mut total, mut n) = (s.to_dvec3(), c);
                 if let Some(p) = &partial {
                     total += p[i].0.as_dvec3();
-                    n += p[i].1;
+                    n = n.saturating_add(p[i].1);
                 }
                 if n == 0 { Vec3::ZERO } else { (total / n as f64).as_vec3() }
             })
@@ -149,7 +150,7 @@ impl Film {
     /// Fewest and most samples any pixel has, partial pass included (they differ after a pass cut short).
     pub fn sample_range(&self) -> (u64, u64) {
         let partial = self.partial_at();
-        let counts = self.count.iter().zip(&partial).map(|(c, p)| c + p.1);
+        let counts = self.count.iter().zip(&partial).map(|(c, p)| c.saturating_add(p.1));
         let (lo, hi) = counts.fold((u64::MAX, 0), |(lo, hi), c| (lo.min(c), hi.max(c)));
         (if lo == u64::MAX { 0 } else { lo }, hi)
     }

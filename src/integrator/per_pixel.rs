@@ -32,7 +32,9 @@ pub fn tiles(width: u32, height: u32) -> Vec<Tile> {
 pub struct PerPixel<T>(pub T);
 
 impl<T: PixelIntegrator> PerPixel<T> {
-    fn render_tile(&self, scene: &Scene, pass: &PassInfo, tile: Tile) -> TileSamples {
+    /// One tile of the pass; `None` when `cancel` was set while it was rendered (a tile cut short is not kept:
+    /// cancellation is checked after every sample, so a tile of heavy pixels stops within one sample).
+    fn render_tile(&self, scene: &Scene, pass: &PassInfo, tile: Tile, cancel: &AtomicBool) -> Option<TileSamples> {
         let s = pass.settings;
         let pattern = s.pixel_pattern();
         let camera = &scene.camera;
@@ -68,6 +70,9 @@ impl<T: PixelIntegrator> PerPixel<T> {
                     };
                     let ray = camera.generate_ray_lens(centre + s.filter.warp(u_pixel), u_lens);
                     let l = self.0.radiance(scene, ray, &mut sampler);
+                    if cancel.load(Ordering::Relaxed) {
+                        return None;
+                    }
                     if l.is_finite() {
                         sum += l;
                     } else {
@@ -77,7 +82,7 @@ impl<T: PixelIntegrator> PerPixel<T> {
                 sums.push(sum);
             }
         }
-        TileSamples { tile, spp: pass.spp, sums, nonfinite }
+        Some(TileSamples { tile, spp: pass.spp, sums, nonfinite })
     }
 }
 
@@ -90,7 +95,7 @@ impl<T: PixelIntegrator> Integrator for PerPixel<T> {
         let this = &*self;
         let done: Vec<Option<TileSamples>> = tiles(pass.settings.width, pass.settings.height)
             .into_par_iter()
-            .map(|tile| (!cancel.load(Ordering::Relaxed)).then(|| this.render_tile(scene, pass, tile)))
+            .map(|tile| if cancel.load(Ordering::Relaxed) { None } else { this.render_tile(scene, pass, tile, cancel) })
             .collect();
         PassOutput::Samples(done.into_iter().flatten().collect())
     }

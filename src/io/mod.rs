@@ -1,6 +1,14 @@
 //! Image files: linear RGB f32 OpenEXR (exr crate) and 8-bit sRGB PNG with an exposure (image crate). Writes go to
 //! a temporary file renamed into place, so an interrupted write never leaves a half-written image behind.
 
+mod files;
+mod image_read;
+mod output_check;
+
+pub use files::{file_kind, open_regular, read_regular, read_regular_text};
+pub use image_read::{read_exr_bytes, read_exr_file, read_exr_from, read_hdr_bytes, read_hdr_file, read_hdr_from};
+pub use output_check::{check_outputs, check_writable_dir, same_file};
+
 use crate::error::{PrismError, Result};
 use glam::Vec3;
 use std::path::{Path, PathBuf};
@@ -148,17 +156,22 @@ pub fn write_png(path: &Path, img: &Image, exposure: f32) -> Result<()> {
     finish(&tmp, path)
 }
 
-/// Read an EXR (linear) or PNG (sRGB, converted to linear) image.
+/// Read an EXR (linear), Radiance HDR (linear) or PNG (sRGB, converted to linear) image. Sizes claimed by a
+/// file's header are checked before anything is allocated (see `image_read.rs`).
 pub fn read_image(path: &Path) -> Result<Image> {
-    if !path.is_file() {
-        return Err(PrismError::io(path, std::io::Error::new(std::io::ErrorKind::NotFound, "image file not found")));
-    }
+    open_regular(path, "image file")?;
     let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
     match ext.as_str() {
-        "exr" => read_exr(path),
+        "exr" => read_exr_file(path),
+        "hdr" => read_hdr_file(path),
         "png" => {
-            let img =
-                image::open(path).map_err(|e| PrismError::format(path, format!("cannot read PNG: {e}")))?.to_rgb8();
+            let (file, _) = open_regular(path, "image file")?;
+            let mut reader = image::ImageReader::with_format(std::io::BufReader::new(file), image::ImageFormat::Png);
+            let mut limits = image::Limits::default();
+            limits.max_image_width = Some(crate::limits::MAX_INPUT_IMAGE_SIDE);
+            limits.max_image_height = Some(crate::limits::MAX_INPUT_IMAGE_SIDE);
+            reader.limits(limits);
+            let img = reader.decode().map_err(|e| PrismError::format(path, format!("cannot read PNG: {e}")))?.to_rgb8();
             let (w, h) = img.dimensions();
             let pixels = img
                 .pixels()
@@ -172,21 +185,11 @@ pub fn read_image(path: &Path) -> Result<Image> {
                 .collect();
             Ok(Image::new(w, h, pixels))
         }
-        _ => Err(PrismError::invalid(format!("{}: unsupported image format (use .exr or .png)", path.display()))),
+        _ => Err(PrismError::invalid(format!("{}: unsupported image format (use .exr, .hdr or .png)", path.display()))),
     }
 }
 
+/// Read an OpenEXR file (its first RGB(A) layer), linear.
 pub fn read_exr(path: &Path) -> Result<Image> {
-    use exr::prelude::read_first_rgba_layer_from_file;
-    let img = read_first_rgba_layer_from_file(
-        path,
-        |res, _| (res.width(), vec![Vec3::ZERO; res.width() * res.height()]),
-        |(w, px): &mut (usize, Vec<Vec3>), pos, (r, g, b, _a): (f32, f32, f32, f32)| {
-            px[pos.y() * *w + pos.x()] = Vec3::new(r, g, b);
-        },
-    )
-    .map_err(|e| PrismError::format(path, format!("cannot read EXR: {e}")))?;
-    let (w, px) = img.layer_data.channel_data.pixels;
-    let h = px.len() / w.max(1);
-    Ok(Image::new(w as u32, h as u32, px))
+    read_exr_file(path)
 }

@@ -1,18 +1,25 @@
-//! Area lights: an emissive triangle set (quad, mesh, triangle) or sphere (or ellipsoid), emitting radiance `L`
-//! from its front side (the side of the geometric normal) or from both sides.
+//! Area lights: an emissive triangle set (quad, mesh, triangle), sphere (or ellipsoid), or curved surface
+//! (revolution, Bézier patch), emitting radiance `L` from its front side (the side of the geometric normal) or
+//! from both sides.
 //!
 //! - Next-event estimation (`sample`/`pdf`): triangle sets by area (a triangle chosen in proportion to its area,
 //!   then a uniform point), spheres uniform in the subtended cone, ellipsoids uniform on the object-space sphere
-//!   with the exact area Jacobian.
+//!   with the exact area Jacobian, curved surfaces by area through `shapes::area_sampling` (a cell of the
+//!   parameter square by approximate area, a uniform point in it, pdf `p(u, v) / |dp/du x dp/dv|` exactly).
 //! - Emission (`sample_le`/`pdf_le`): a point uniform by area (ellipsoids: object-space uniform, with the area
 //!   Jacobian in the pdf), then a cosine-distributed direction about the normal (two-sided lights pick each side
 //!   with probability 1/2). Power `pi A L`, twice that for two-sided lights.
+//! - Textured emission (glTF's emissive texture): the radiance at a point is `L * texture(uv)`. Points are still
+//!   sampled uniformly by area (unbiased for any texture); the power, which only weighs the choice between lights,
+//!   integrates the texture over each triangle with 16 stratified points (spheres: 256 points).
 
 use super::{LeSample, LightSample};
 use crate::geometry::spawn_ray;
 use crate::math::Frame;
-use crate::primitives::{EntityPrims, Primitives, SurfaceHit, interpolation_error, sphere_point_error};
+use crate::primitives::{EntityPrims, Primitives, SurfaceHit, interpolation_error, sphere_point_error, sphere_uv};
 use crate::sampling::warp;
+use crate::shapes::area_sampling::ParamAreaSampler;
+use crate::texture::ImageMap;
 use glam::{Vec2, Vec3, Vec3A};
 use std::f32::consts::PI;
 
@@ -23,6 +30,9 @@ pub enum AreaShape {
     Triangles { first: u32, count: u32, cdf: Vec<f32>, normals: Vec<Vec3A>, area: f32 },
     /// Sphere `index` of the primitives.
     Sphere { index: u32 },
+    /// A curved analytic primitive `prim` (revolution, patch): a point of its parameter square drawn by
+    /// `sampler`, density by area `p(u, v) / |dp/du x dp/dv|`.
+    Curved { prim: u32, sampler: ParamAreaSampler },
 }
 
 #[derive(Clone, Debug)]
@@ -30,6 +40,10 @@ pub struct AreaLight {
     pub radiance: Vec3,
     pub two_sided: bool,
     pub shape: AreaShape,
+    /// Emission texture: the radiance at uv is `radiance * texture(uv)`.
+    pub texture: Option<ImageMap>,
+    /// Mean of the texture over the surface (by area), per channel; 1 without a texture.
+    texture_mean: Vec3,
 }
 
 fn tri_area(t: &[Vec3A; 3]) -> f32 {
@@ -37,10 +51,23 @@ fn tri_area(t: &[Vec3A; 3]) -> f32 {
 }
 
 impl AreaLight {
-    pub fn new(prims: &Primitives, ep: &EntityPrims, radiance: Vec3, two_sided: bool) -> Self {
-        let shape = match ep.sphere {
-            Some(index) => AreaShape::Sphere { index },
-            None => {
+    pub fn new(
+        prims: &Primitives,
+        ep: &EntityPrims,
+        radiance: Vec3,
+        two_sided: bool,
+        texture: Option<ImageMap>,
+    ) -> Self {
+        let shape = match (ep.sphere, ep.curved) {
+            (Some(index), _) => AreaShape::Sphere { index },
+            (None, Some(k)) => {
+                let prim = prims.num_tris() + k;
+                let sampler = ParamAreaSampler::new(|u, v| {
+                    prims.analytic_point_at(prim, Vec2::new(u, v)).map_or(0.0, |q| q.dpdu.cross(q.dpdv).length())
+                });
+                AreaShape::Curved { prim, sampler }
+            }
+            (None, None) => {
                 let tris = &prims.tris[ep.first_tri as usize..(ep.first_tri + ep.tri_count) as usize];
                 let mut acc = 0.0f64;
                 let mut cdf: Vec<f32> = tris
@@ -59,7 +86,79 @@ impl AreaLight {
                 AreaShape::Triangles { first: ep.first_tri, count: ep.tri_count, cdf, normals, area }
             }
         };
-        AreaLight { radiance, two_sided, shape }
+        let mut light = AreaLight { radiance, two_sided, shape, texture, texture_mean: Vec3::ONE };
+        if light.texture.is_some() {
+            light.texture_mean = light.mean_texture(prims);
+        }
+        light
+    }
+
+    /// Radiance emitted at surface parameter `uv` (towards the emitting side).
+    #[inline]
+    pub fn radiance_at(&self, uv: Vec2) -> Vec3 {
+        match &self.texture {
+            None => self.radiance,
+            Some(t) => self.radiance * t.eval(uv),
+        }
+    }
+
+    /// Area-weighted mean of the emission texture: 16 stratified points per triangle (256 on a sphere).
+    fn mean_texture(&self, prims: &Primitives) -> Vec3 {
+        let n = 4;
+        let strata = |f: &mut dyn FnMut(Vec2)| {
+            for i in 0..n {
+                for j in 0..n {
+                    f(Vec2::new((i as f32 + 0.5) / n as f32, (j as f32 + 0.5) / n as f32));
+                }
+            }
+        };
+        let mut sum = glam::DVec3::ZERO;
+        let mut weight = 0.0f64;
+        match &self.shape {
+            AreaShape::Triangles { first, count, .. } => {
+                for k in *first..*first + *count {
+                    let a = tri_area(&prims.tris[k as usize]) as f64;
+                    let uvs = prims.tri_shading[k as usize].uvs;
+                    strata(&mut |u| {
+                        let (b0, b1, b2) = warp::uniform_triangle(u);
+                        let uv = b0 * uvs[0] + b1 * uvs[1] + b2 * uvs[2];
+                        sum += self.radiance_at(uv).as_dvec3() * (a / (n * n) as f64);
+                    });
+                    weight += a;
+                }
+            }
+            AreaShape::Sphere { index } => {
+                let r = prims.spheres[*index as usize].radius;
+                for _ in 0..4 {
+                    strata(&mut |u| {
+                        let (uv, ..) = sphere_uv(warp::uniform_sphere(u), r);
+                        sum += self.radiance_at(uv).as_dvec3();
+                        weight += 1.0;
+                    });
+                }
+            }
+            AreaShape::Curved { prim, .. } => {
+                // Midpoint rule over the parameter square, weighted by the area element.
+                for _ in 0..16 {
+                    strata(&mut |u| {
+                        if let Some(q) = prims.analytic_point_at(*prim, u) {
+                            let jac = q.dpdu.cross(q.dpdv).length() as f64;
+                            if jac.is_finite() {
+                                sum += self.radiance_at(u).as_dvec3() * jac;
+                                weight += jac;
+                            }
+                        }
+                    });
+                }
+            }
+        }
+        let mean = if weight > 0.0 { (sum / weight).as_vec3() } else { Vec3::ZERO };
+        // The mean relative to the constant factor (the factor itself enters `power` separately).
+        Vec3::select(
+            self.radiance.cmpgt(Vec3::ZERO),
+            mean / self.radiance.max(Vec3::splat(f32::MIN_POSITIVE)),
+            Vec3::ZERO,
+        )
     }
 
     /// Total surface area (exact for triangle sets and spheres; for ellipsoids the area integral by a 256 x 512
@@ -67,6 +166,7 @@ impl AreaLight {
     pub fn area(&self, prims: &Primitives) -> f32 {
         match &self.shape {
             AreaShape::Triangles { area, .. } => *area,
+            AreaShape::Curved { sampler, .. } => sampler.area(),
             AreaShape::Sphere { index } => {
                 let s = &prims.spheres[*index as usize];
                 let r2 = s.radius as f64 * s.radius as f64;
@@ -95,12 +195,12 @@ impl AreaLight {
 
     /// Total emitted power: `pi A L`, doubled for a two-sided light.
     pub fn power(&self, prims: &Primitives) -> Vec3 {
-        self.radiance * (PI * self.area(prims) * if self.two_sided { 2.0 } else { 1.0 })
+        self.radiance * self.texture_mean * (PI * self.area(prims) * if self.two_sided { 2.0 } else { 1.0 })
     }
 
-    /// A uniform point by area: (point, error bound, unit normal, area pdf).
+    /// A uniform point by area: (point, error bound, unit normal, area pdf, emitted radiance there).
     #[inline]
-    fn sample_point(&self, prims: &Primitives, u: Vec2) -> (Vec3A, Vec3A, Vec3A, f32) {
+    fn sample_point(&self, prims: &Primitives, u: Vec2) -> (Vec3A, Vec3A, Vec3A, f32, Vec3) {
         match &self.shape {
             AreaShape::Triangles { first, count, cdf, normals, area } => {
                 let k = cdf.partition_point(|&c| c <= u.x).min(*count as usize - 1);
@@ -109,24 +209,48 @@ impl AreaLight {
                 let t = &prims.tris[*first as usize + k];
                 let (b0, b1, b2) = warp::uniform_triangle(Vec2::new(ux, u.y));
                 let q = b0 * t[0] + b1 * t[1] + b2 * t[2];
-                (q, interpolation_error([b0, b1, b2], t), normals[k], 1.0 / area)
+                let le = match &self.texture {
+                    None => self.radiance,
+                    Some(_) => {
+                        let uvs = prims.tri_shading[*first as usize + k].uvs;
+                        self.radiance_at(b0 * uvs[0] + b1 * uvs[1] + b2 * uvs[2])
+                    }
+                };
+                (q, interpolation_error([b0, b1, b2], t), normals[k], 1.0 / area, le)
+            }
+            AreaShape::Curved { prim, sampler } => {
+                let (uv, pdf_uv) = sampler.sample(u);
+                match prims.analytic_point_at(*prim, uv) {
+                    Some(q) => {
+                        let jac = q.dpdu.cross(q.dpdv).length();
+                        // A degenerate point (zero area element) has no density: its sample is dropped.
+                        let pdf = if jac > 0.0 { pdf_uv / jac } else { f32::INFINITY };
+                        (q.p, q.p_err, q.n, pdf, self.radiance_at(uv))
+                    }
+                    None => (Vec3A::ZERO, Vec3A::ZERO, Vec3A::Z, f32::INFINITY, Vec3::ZERO),
+                }
             }
             AreaShape::Sphere { index } => {
                 let s = &prims.spheres[*index as usize];
                 let no = warp::uniform_sphere(u);
+                let le = match &self.texture {
+                    None => self.radiance,
+                    Some(_) => self.radiance_at(sphere_uv(no, s.radius).0),
+                };
                 match &s.transform {
                     None => (
                         s.center + no * s.radius,
                         sphere_point_error(s.center, no * s.radius, None),
                         no,
                         1.0 / (4.0 * PI * s.radius * s.radius),
+                        le,
                     ),
                     Some(x) => {
                         let q = x.world_from_object.transform_point3a(s.center + no * s.radius);
                         let nw = x.normal_to_world * no;
                         let jac = x.world_from_object.matrix3.determinant().abs() * nw.length();
                         let err = sphere_point_error(s.center, no * s.radius, Some(x));
-                        (q, err, nw.normalize(), 1.0 / (4.0 * PI * s.radius * s.radius * jac))
+                        (q, err, nw.normalize(), 1.0 / (4.0 * PI * s.radius * s.radius * jac), le)
                     }
                 }
             }
@@ -137,7 +261,7 @@ impl AreaLight {
     /// light first picks its side with `u_dir.x`). The origin is offset off the surface.
     #[inline]
     pub fn sample_le(&self, prims: &Primitives, u_pos: Vec2, u_dir: Vec2) -> Option<LeSample> {
-        let (p, p_err, n, pdf_pos) = self.sample_point(prims, u_pos);
+        let (p, p_err, n, pdf_pos, le) = self.sample_point(prims, u_pos);
         let (side, u_dir, side_prob) = if self.two_sided {
             if u_dir.x < 0.5 {
                 (n, Vec2::new(2.0 * u_dir.x, u_dir.y), 0.5)
@@ -153,7 +277,7 @@ impl AreaLight {
             return None;
         }
         let dir = Frame::from_normal(side).to_world(local);
-        Some(LeSample { ray: spawn_ray(p, p_err, n, dir), le: self.radiance, n: side, pdf_pos, pdf_dir })
+        Some(LeSample { ray: spawn_ray(p, p_err, n, dir), le, n: side, pdf_pos, pdf_dir })
     }
 
     /// Position (area) and direction (solid angle) pdfs of an emitted ray leaving the point `p` (on the light, with
@@ -163,6 +287,10 @@ impl AreaLight {
         let pdf_dir = if self.two_sided { 0.5 * cos.abs() / PI } else { cos.max(0.0) / PI };
         let pdf_pos = match &self.shape {
             AreaShape::Triangles { area, .. } => 1.0 / area,
+            // The position density of a curved surface depends on the surface parameters, which a world point
+            // does not give: the mean density 1/area is returned (no integrator uses it; `sample_le` returns the
+            // exact one).
+            AreaShape::Curved { sampler, .. } => 1.0 / sampler.area(),
             AreaShape::Sphere { index } => {
                 let s = &prims.spheres[*index as usize];
                 match &s.transform {
@@ -180,10 +308,14 @@ impl AreaLight {
 
     /// Convert an area-measure sample at `q` (normal `n`) seen from `p` into a light sample.
     #[inline]
-    fn sample_at_point(&self, p: Vec3A, q: Vec3A, q_err: Vec3A, n: Vec3A, pdf_area: f32) -> Option<LightSample> {
+    fn sample_at_point(
+        &self,
+        p: Vec3A,
+        (q, q_err, n, pdf_area, li): (Vec3A, Vec3A, Vec3A, f32, Vec3),
+    ) -> Option<LightSample> {
         let d = q - p;
         let dist2 = d.length_squared();
-        if dist2 == 0.0 {
+        if dist2 == 0.0 || !pdf_area.is_finite() {
             return None;
         }
         let dist = dist2.sqrt();
@@ -192,16 +324,7 @@ impl AreaLight {
         if cos_l == 0.0 || (!self.two_sided && cos_l < 0.0) {
             return None;
         }
-        Some(LightSample {
-            p: q,
-            p_err: q_err,
-            n,
-            wi,
-            dist,
-            li: self.radiance,
-            pdf: pdf_area * dist2 / cos_l.abs(),
-            delta: false,
-        })
+        Some(LightSample { p: q, p_err: q_err, n, wi, dist, li, pdf: pdf_area * dist2 / cos_l.abs(), delta: false })
     }
 
     /// A light sample seen from `p` for next-event estimation (solid-angle pdf).
@@ -227,6 +350,10 @@ impl AreaLight {
                 let f = Frame::from_normal(-wc);
                 let n = f.to_world(Vec3A::new(sin_a * phi.cos(), sin_a * phi.sin(), cos_a));
                 let q = s.center + n * s.radius;
+                let li = match &self.texture {
+                    None => self.radiance,
+                    Some(_) => self.radiance_at(sphere_uv(n, s.radius).0),
+                };
                 let d = q - p;
                 let dist = d.length();
                 let wi = d / dist;
@@ -239,15 +366,14 @@ impl AreaLight {
                     n,
                     wi,
                     dist,
-                    li: self.radiance,
+                    li,
                     pdf: 1.0 / (2.0 * PI * one_minus_cos_max),
                     delta: false,
                 });
             }
         }
         // Triangle sets, ellipsoids, and points inside (or on) a sphere: uniform by area.
-        let (q, q_err, n, pdf_area) = self.sample_point(prims, u);
-        self.sample_at_point(p, q, q_err, n, pdf_area)
+        self.sample_at_point(p, self.sample_point(prims, u))
     }
 
     pub fn pdf(&self, prims: &Primitives, p: Vec3A, hit: &SurfaceHit) -> f32 {
@@ -259,6 +385,10 @@ impl AreaLight {
         }
         match &self.shape {
             AreaShape::Triangles { area, .. } => dist2 / (cos_l * area),
+            AreaShape::Curved { sampler, .. } => {
+                let jac = hit.dpdu.cross(hit.dpdv).length();
+                if jac > 0.0 { dist2 / cos_l * sampler.pdf(hit.uv) / jac } else { 0.0 }
+            }
             AreaShape::Sphere { index } => {
                 let s = &prims.spheres[*index as usize];
                 match &s.transform {

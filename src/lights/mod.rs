@@ -5,7 +5,7 @@
 //!   (solid angle) pdfs; [`LeSample::flux`] is the power one sample carries;
 //! - `power`: total emitted power (RGB, W), what light selection weighs.
 //!
-//! Light types: area lights (emissive triangle sets and spheres, `area.rs`), point (`point.rs`), spot (`spot.rs`),
+//! Light types: area lights (emissive triangle sets, spheres and curved surfaces, `area.rs`), point (`point.rs`), spot (`spot.rs`),
 //! directional (`directional.rs`) and the environment (`environment.rs`, sampled through `EnvSampling`: quad-tree,
 //! piecewise-constant, uniform or cosine). Distant lights (directional, environment) emit from a disk covering the
 //! scene's bounding sphere ([`SceneSphere`]). [`LightSampler`] chooses one light in proportion to its power and
@@ -34,7 +34,7 @@ pub use piecewise::Piecewise2D;
 pub use point::PointLight;
 pub use power_sampler::PowerLightSampler;
 pub use quadtree::{DELTA, EPSILON, EnvSample, QuadTree};
-pub use spot::SpotLight;
+pub use spot::{SpotLight, SpotProfile};
 
 use crate::components::{Light, WorldFromLocal};
 use crate::error::{PrismError, Result};
@@ -148,12 +148,16 @@ impl LightSet {
     /// Collect the lights of the world. `emitters` are the entities with area lights, in slot order.
     pub fn build(world: &hecs::World, prims: &Primitives, emitters: &[(hecs::Entity, EntityPrims)]) -> Result<Self> {
         let mut lights = Vec::new();
+        // The entity of each light (and of the environment), for errors.
+        let mut owners = Vec::new();
+        let mut env_owner = None;
         for (entity, ep) in emitters {
             let Ok(light) = world.get::<&Light>(*entity) else {
                 continue;
             };
-            if let Light::Area { radiance, two_sided } = *light {
-                lights.push(LightSource::Area(AreaLight::new(prims, ep, radiance, two_sided)));
+            if let Light::Area { radiance, two_sided, texture } = &*light {
+                lights.push(LightSource::Area(AreaLight::new(prims, ep, *radiance, *two_sided, texture.clone())));
+                owners.push(*entity);
             }
         }
         let mut environment = None;
@@ -163,13 +167,16 @@ impl LightSet {
         for (entity, light, wfl) in others {
             let m = wfl.map(|w| w.0).unwrap_or_default();
             let label = || crate::load::entity_label(world, entity);
+            if !matches!(light, Light::Environment { .. } | Light::Area { .. }) {
+                owners.push(entity);
+            }
             match light {
                 Light::Point { intensity, position, attenuation } => lights.push(LightSource::Point(PointLight {
                     position: m.transform_point3a((*position).into()),
                     intensity: *intensity,
                     attenuation: *attenuation,
                 })),
-                Light::Spot { intensity, position, direction, cone_angle, falloff } => {
+                Light::Spot { intensity, position, direction, cone_angle, falloff, profile } => {
                     let axis = m
                         .transform_vector3a((*direction).into())
                         .try_normalize()
@@ -180,6 +187,7 @@ impl LightSet {
                         *intensity,
                         *cone_angle,
                         *falloff,
+                        *profile,
                     )))
                 }
                 Light::Environment { radiance, map } => {
@@ -187,6 +195,7 @@ impl LightSet {
                         return Err(PrismError::scene(label(), "a scene can have only one environment light"));
                     }
                     environment = Some(EnvironmentLight::new(*radiance, map.clone(), &m));
+                    env_owner = Some(entity);
                 }
                 Light::Directional { irradiance, direction } => {
                     let d = m.transform_vector3a((*direction).into());
@@ -198,7 +207,20 @@ impl LightSet {
                 Light::Area { .. } => {}
             }
         }
-        Ok(LightSet { lights, environment, sphere: SceneSphere::from_bounds(&prims.bounds) })
+        let set = LightSet { lights, environment, sphere: SceneSphere::from_bounds(&prims.bounds) };
+        // Light choice by power and photon flux need finite powers: radiance 3e38 on a unit quad, or an environment
+        // scale of 3e38, overflows single precision.
+        for (i, owner) in owners.iter().copied().chain(env_owner).enumerate() {
+            let i = if i < set.lights.len() { i } else { set.lights.len() };
+            let p = set.power(i, prims);
+            if !p.is_finite() {
+                return Err(PrismError::scene(
+                    crate::load::entity_label(world, owner),
+                    format!("the light's power overflows ({p}): its radiance, intensity or scale is too large"),
+                ));
+            }
+        }
+        Ok(set)
     }
 
     /// Number of lights other than the environment.
@@ -270,11 +292,11 @@ impl LightSet {
         }
     }
 
-    /// Radiance leaving area light `slot` at a point with geometric normal `ng` towards `wo`.
+    /// Radiance leaving area light `slot` at the surface point `s` towards `wo`.
     #[inline]
-    pub fn area_radiance(&self, slot: u32, ng: Vec3A, wo: Vec3A) -> Vec3 {
+    pub fn area_radiance(&self, slot: u32, s: &SurfaceHit, wo: Vec3A) -> Vec3 {
         match &self.lights[slot as usize] {
-            LightSource::Area(a) if a.two_sided || ng.dot(wo) > 0.0 => a.radiance,
+            LightSource::Area(a) if a.two_sided || s.ng.dot(wo) > 0.0 => a.radiance_at(s.uv),
             _ => Vec3::ZERO,
         }
     }

@@ -1,7 +1,9 @@
 //! The spot light (pbrt-v4's model): a point light whose intensity is `I` inside the cone of half-angle
-//! `cone_angle - falloff` around its axis, falls off smoothly (smoothstep in the cosine) to 0 at `cone_angle`, and
-//! is 0 outside. Power `2 pi I ((1 - cos_start) + (cos_start - cos_end) / 2)` (exact: the smoothstep averages 1/2);
-//! emitted rays are uniform inside the outer cone, each carrying `I * falloff(direction)`.
+//! `cone_angle - falloff` around its axis, falls off smoothly to 0 at `cone_angle`, and is 0 outside. The fall-off
+//! is a function of `t = (cos - cos_end) / (cos_start - cos_end)` in [0, 1] ([`SpotProfile`]): pbrt-v4's
+//! smoothstep `3t^2 - 2t^3` (the default), pbrt-v3's `t^4`, or glTF's `t^2` (KHR_lights_punctual's reference
+//! code). Power `2 pi I ((1 - cos_start) + m (cos_start - cos_end))` with `m` the profile's mean over the cosine
+//! (1/2, 1/5, 1/3: exact); emitted rays are uniform inside the outer cone, each carrying `I * falloff(direction)`.
 
 use super::{LeSample, LightSample};
 use crate::geometry::Ray;
@@ -9,6 +11,41 @@ use crate::math::Frame;
 use crate::sampling::warp;
 use glam::{Vec2, Vec3, Vec3A};
 use std::f32::consts::PI;
+
+/// How a spot light's intensity falls from the inner to the outer cone, as a function of
+/// `t = (cos - cos_end) / (cos_start - cos_end)`.
+#[derive(serde::Deserialize, Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum SpotProfile {
+    /// pbrt-v4: `smoothstep(t) = 3t^2 - 2t^3`.
+    #[default]
+    Smoothstep,
+    /// pbrt-v3: `t^4`.
+    Quartic,
+    /// glTF (KHR_lights_punctual): `t^2`, i.e. the square of the linear ramp in the cosine.
+    Gltf,
+}
+
+impl SpotProfile {
+    /// The profile at `t` in [0, 1].
+    #[inline]
+    fn eval(self, t: f32) -> f32 {
+        match self {
+            SpotProfile::Smoothstep => t * t * (3.0 - 2.0 * t),
+            SpotProfile::Quartic => (t * t) * (t * t),
+            SpotProfile::Gltf => t * t,
+        }
+    }
+
+    /// The mean of the profile over `t` in [0, 1] (the fall-off band's share of the power).
+    pub fn mean(self) -> f32 {
+        match self {
+            SpotProfile::Smoothstep => 0.5,
+            SpotProfile::Quartic => 0.2,
+            SpotProfile::Gltf => 1.0 / 3.0,
+        }
+    }
+}
 
 #[derive(Clone, Debug)]
 pub struct SpotLight {
@@ -21,30 +58,35 @@ pub struct SpotLight {
     pub cos_start: f32,
     /// Cosine of the cone's half-angle (no light outside).
     pub cos_end: f32,
-}
-
-/// Hermite smoothstep of `x` between `a` and `b` (0 below `a`, 1 above `b`).
-#[inline]
-fn smoothstep(a: f32, b: f32, x: f32) -> f32 {
-    if a == b {
-        return if x < a { 0.0 } else { 1.0 };
-    }
-    let t = ((x - a) / (b - a)).clamp(0.0, 1.0);
-    t * t * (3.0 - 2.0 * t)
+    pub profile: SpotProfile,
 }
 
 impl SpotLight {
     /// A spot at `position` pointing along the unit `axis`; angles in degrees, `falloff` <= `cone_angle`.
-    pub fn new(position: Vec3A, axis: Vec3A, intensity: Vec3, cone_angle: f32, falloff: f32) -> Self {
+    pub fn new(
+        position: Vec3A,
+        axis: Vec3A,
+        intensity: Vec3,
+        cone_angle: f32,
+        falloff: f32,
+        profile: SpotProfile,
+    ) -> Self {
         let cos_end = cone_angle.to_radians().cos();
         let cos_start = (cone_angle - falloff).max(0.0).to_radians().cos();
-        SpotLight { position, frame: Frame::from_normal(axis), intensity, cos_start, cos_end }
+        SpotLight { position, frame: Frame::from_normal(axis), intensity, cos_start, cos_end, profile }
     }
 
     /// Relative intensity towards the unit direction `w` leaving the light.
     #[inline]
     pub fn falloff(&self, w: Vec3A) -> f32 {
-        smoothstep(self.cos_end, self.cos_start, w.dot(self.frame.n))
+        let (a, b, x) = (self.cos_end, self.cos_start, w.dot(self.frame.n));
+        if x < a {
+            return 0.0;
+        }
+        if x >= b {
+            return 1.0;
+        }
+        self.profile.eval(((x - a) / (b - a)).clamp(0.0, 1.0))
     }
 
     /// The light as seen from `p` (a delta in direction); `None` outside the cone.
@@ -62,7 +104,7 @@ impl SpotLight {
     }
 
     pub fn power(&self) -> Vec3 {
-        self.intensity * (2.0 * PI * ((1.0 - self.cos_start) + 0.5 * (self.cos_start - self.cos_end)))
+        self.intensity * (2.0 * PI * ((1.0 - self.cos_start) + self.profile.mean() * (self.cos_start - self.cos_end)))
     }
 
     /// An emitted ray, uniform in the outer cone; `None` only for a degenerate (empty) cone.

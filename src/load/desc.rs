@@ -58,8 +58,47 @@ pub struct SceneDesc<'a> {
     pub textures: std::collections::BTreeMap<String, TextureDesc>,
     #[serde(default)]
     pub materials: std::collections::BTreeMap<String, MaterialDesc>,
+    /// Named inline triangle meshes (`TriangleMesh("name")` shapes refer to them; each is stored once).
+    #[serde(default)]
+    pub meshes: std::collections::BTreeMap<String, MeshDesc>,
     #[serde(default)]
     pub entities: Vec<EntityDesc>,
+}
+
+/// An inline triangle mesh: positions, triangles (indices into positions, counter-clockwise seen from the
+/// front), and optionally one normal and one uv per position.
+#[derive(Deserialize, Debug, Clone)]
+#[serde(deny_unknown_fields)]
+pub struct MeshDesc {
+    pub positions: Vec<V3>,
+    pub indices: Vec<[u32; 3]>,
+    #[serde(default)]
+    pub normals: Vec<V3>,
+    #[serde(default)]
+    pub uvs: Vec<[f32; 2]>,
+}
+
+/// Where an entity's surface exists for rays: `alpha = factor * texture(uv).r` (a grey image, or the red channel).
+#[derive(Deserialize, Debug, Clone)]
+#[serde(deny_unknown_fields)]
+pub struct AlphaDesc {
+    #[serde(default)]
+    pub texture: Option<String>,
+    #[serde(default = "unit")]
+    pub factor: f32,
+    /// `Mask(cutoff: c)`: a hole where alpha < c; `Blend`: met with probability alpha (stochastic transparency).
+    #[serde(default)]
+    pub mode: AlphaModeDesc,
+}
+
+#[derive(Deserialize, Debug, Clone, Copy, Default)]
+#[serde(deny_unknown_fields)]
+pub enum AlphaModeDesc {
+    Mask {
+        cutoff: f32,
+    },
+    #[default]
+    Blend,
 }
 
 /// How to render: every field can be overridden on the command line.
@@ -133,6 +172,13 @@ pub struct CameraDesc {
     /// Image width and height in pixels.
     #[serde(default = "default_size")]
     pub size: (u32, u32),
+    /// Mirror the image left-right (image-right = up x forward: pbrt's left-handed screen space).
+    #[serde(default)]
+    pub mirror: bool,
+    /// Render only the window `(x_min, y_min, x_max, y_max)` of the full frame (fractions; pbrt's `cropwindow`);
+    /// `size` is then the window's size in pixels.
+    #[serde(default)]
+    pub crop: Option<[f32; 4]>,
 }
 
 #[derive(Deserialize, Debug, Clone)]
@@ -150,6 +196,9 @@ pub struct EntityDesc {
     pub material: Option<String>,
     #[serde(default)]
     pub light: Option<LightDesc>,
+    /// An alpha cut-out of the entity's triangles (see [`AlphaDesc`]).
+    #[serde(default)]
+    pub alpha: Option<AlphaDesc>,
     /// Nested entities: they inherit this entity's transform (and its material if they name none).
     #[serde(default)]
     pub children: Vec<EntityDesc>,
@@ -203,13 +252,65 @@ pub enum ShapeDesc {
     },
     /// The cube [-1,1]^3 (outward normals); scale and place it with `transform`.
     Cube,
-    /// A mesh file (OBJ), path relative to the scene file.
+    /// A mesh file (OBJ or PLY), path relative to the scene file.
     Mesh {
         path: String,
         /// Ignore the file's vertex normals and shade flat.
         #[serde(default)]
         flat: bool,
+        /// Reverse the triangles' winding: the front face (the side an area light emits from) becomes the back.
+        #[serde(default)]
+        reverse: bool,
     },
+    /// A mesh of the scene's `meshes` table, by name.
+    TriangleMesh(String),
+    /// The surface of revolution of `profile` (a curve in the xy-plane, z = 0) about the y axis, intersected
+    /// exactly, or as a mesh with `tessellation: Some((curve: n, revolution: m))`.
+    Revolution {
+        profile: CurveDesc,
+        #[serde(default)]
+        tessellation: Option<TessellationDesc>,
+    },
+    /// A bicubic Bézier patch: 16 control points, four rows of four (u along a row), intersected exactly, or as
+    /// a mesh with `tessellation: Some((patch: n))`.
+    BezierPatch {
+        points: Vec<V3>,
+        #[serde(default)]
+        tessellation: Option<TessellationDesc>,
+    },
+    /// Every surface of a 6.837 spline file (`spline8_*.txt`: surfaces of revolution and Bézier patches; curves
+    /// alone are left out), exact or tessellated.
+    Splines {
+        path: String,
+        #[serde(default)]
+        tessellation: Option<TessellationDesc>,
+    },
+}
+
+/// A piecewise cubic curve: `Bezier([...])` (3k + 1 control points) or `BSpline([...])` (uniform cubic, at least
+/// 4; a point repeated three times is passed through).
+#[derive(Deserialize, Debug, Clone)]
+#[serde(deny_unknown_fields)]
+pub enum CurveDesc {
+    Bezier(Vec<V3>),
+    BSpline(Vec<V3>),
+}
+
+fn ten() -> usize {
+    10
+}
+
+/// Tessellation resolutions (the 6.837 curve editor's): segments per cubic piece of a profile, steps around a
+/// revolution, quads along each side of a patch.
+#[derive(Deserialize, Debug, Clone, Copy)]
+#[serde(deny_unknown_fields)]
+pub struct TessellationDesc {
+    #[serde(default = "ten")]
+    pub curve: usize,
+    #[serde(default = "ten")]
+    pub revolution: usize,
+    #[serde(default = "ten")]
+    pub patch: usize,
 }
 
 #[derive(Deserialize, Debug, Clone)]
@@ -238,6 +339,9 @@ pub enum LightDesc {
         cone_angle: f32,
         #[serde(default = "default_falloff")]
         falloff: f32,
+        /// Shape of the fall-off: `smoothstep` (pbrt-v4, default), `quartic` (pbrt-v3) or `gltf`.
+        #[serde(default)]
+        profile: crate::lights::SpotProfile,
     },
     /// Distant light travelling along `direction`; `irradiance` in W/m^2 on a surface facing it.
     Directional {
@@ -245,11 +349,14 @@ pub enum LightDesc {
         #[serde(default = "down")]
         direction: V3,
     },
-    /// The entity's shape emits `radiance` (W/m^2/sr) from its front face, or both faces.
+    /// The entity's shape emits `radiance` (W/m^2/sr) from its front face, or both faces; with a `texture` (an
+    /// image of `textures`), `radiance * texture(uv)`.
     Area {
         radiance: V3,
         #[serde(default)]
         two_sided: bool,
+        #[serde(default)]
+        texture: Option<String>,
     },
     /// Light from infinitely far away: `radiance * scale * map(direction)`, or the constant `radiance * scale`.
     /// `map` is one file (equirect or vertical cross), `faces` six files (px nx py ny pz nz); the entity's

@@ -16,7 +16,7 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 /// A material by name: its index and, for emissive materials, the radiance and sidedness.
-pub(super) struct MaterialEntry {
+pub(crate) struct MaterialEntry {
     pub id: u32,
     pub emission: Option<(Vec3, bool)>,
 }
@@ -38,6 +38,7 @@ pub(super) fn load_textures(
                     return Err(PrismError::scene(&ctx, "uv_scale and uv_offset must be finite"));
                 }
                 let full = base_dir.join(path);
+                res.inputs.push(full.clone());
                 let key = (full.clone(), *raw);
                 let image = match images.get(&key) {
                     Some(i) => i.clone(),
@@ -206,7 +207,7 @@ const NON_NEG: (f32, f32) = (0.0, f32::INFINITY);
 const UNIT: (f32, f32) = (0.0, 1.0);
 
 /// Add the scene's materials (after the ones already in the table). Returns name -> entry.
-pub(super) fn load_materials(
+pub(crate) fn load_materials(
     descs: &BTreeMap<String, MaterialDesc>,
     textures: &HashMap<String, u32>,
     file: &str,

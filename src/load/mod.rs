@@ -1,16 +1,24 @@
 //! The Load stage: read the scene (RON, a bare OBJ mesh, or a 6.837 `.txt` scene), spawn its entities, and resolve
 //! the render settings from the file and the command-line overrides.
 
+mod curved;
+mod deep_stack;
 pub mod desc;
+pub mod gltf;
+mod inline_mesh;
 mod material_desc;
 mod materials;
 pub mod mit6837;
 mod obj;
+mod obj_check;
+pub mod pbrt;
+pub mod ply;
 mod ron_scene;
 mod spawn;
 mod transform;
 
-pub use obj::{ObjPart, load_obj};
+pub use deep_stack::{LOADER_STACK_BYTES, RON_RECURSION_LIMIT, with_loader_stack};
+pub use obj::{ObjPart, load_obj, parse_obj};
 pub use ron_scene::{describe as describe_ron_error, line_col, parse_scene, plugin_config};
 pub use spawn::{FileSettings, camera_component, spawn_scene};
 pub use transform::{check_affine, compose};
@@ -36,21 +44,30 @@ pub fn entity_label(world: &World, e: hecs::Entity) -> String {
 pub fn load_scene_system(world: &mut World, res: &mut Resources) -> Result<()> {
     res.scene_hash = match &res.source {
         SceneSource::Prebuilt => 0,
-        SceneSource::File(path) => std::fs::read(path).map(|b| hash_bytes(&b)).unwrap_or(0),
+        SceneSource::File(path) => hash_bytes(&crate::io::read_regular(path, "scene file")?),
         SceneSource::RonText { text, .. } => hash_bytes(text.as_bytes()),
     };
-    let file_settings = match res.source.clone() {
-        SceneSource::Prebuilt => FileSettings::default(),
-        SceneSource::File(path) => load_file(&path, world, res)?,
+    // Parsing and spawning recurse once per nesting level: on a stack sized for the deepest nesting accepted.
+    let file_settings = with_loader_stack(|| match res.source.clone() {
+        SceneSource::Prebuilt => Ok(FileSettings::default()),
+        SceneSource::File(path) => load_file(&path, world, res),
         SceneSource::RonText { text, name, base_dir } => {
             let desc = parse_scene(&text, &name)?;
-            spawn_scene(&desc, &text, &name, &base_dir, world, res)?
+            spawn_scene(&desc, &text, &name, &base_dir, world, res)
         }
-    };
+    })?;
     if res.materials.is_empty() {
         res.materials.push(Material::default());
     }
     resolve_settings(world, res, file_settings)
+}
+
+/// Load-stage system, after the scene is loaded: every output (images, the film checkpoints write) can be written
+/// and overwrites none of the scene's inputs, before any rendering starts.
+pub fn check_outputs_system(_world: &mut World, res: &mut Resources) -> Result<()> {
+    let mut outputs = res.outputs.clone();
+    outputs.extend(res.film_path.iter().cloned());
+    crate::io::check_outputs(&outputs, &res.inputs)
 }
 
 /// FNV-1a 64 of a scene file (part of a film's fingerprint).
@@ -59,39 +76,66 @@ fn hash_bytes(b: &[u8]) -> u64 {
 }
 
 fn load_file(path: &Path, world: &mut World, res: &mut Resources) -> Result<FileSettings> {
+    res.inputs.push(path.to_path_buf());
     let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
     match ext.as_str() {
         "ron" => {
-            let text = std::fs::read_to_string(path).map_err(|e| PrismError::io(path, e))?;
+            let text = crate::io::read_regular_text(path, "scene file")?;
             let base = path.parent().unwrap_or(Path::new("."));
             let desc = parse_scene(&text, path)?;
             spawn_scene(&desc, &text, path, base, world, res)
         }
         "obj" => load_obj_scene(path, world, res),
+        "ply" => load_ply_scene(path, world, res),
+        "gltf" | "glb" => {
+            res.materials.push(Material::default());
+            gltf::load_gltf(path, world, res)
+        }
+        "pbrt" => {
+            // A pbrt scene: spawned through its RON equivalent (what `prism convert` writes).
+            let base = path.parent().unwrap_or(Path::new("."));
+            let converted = pbrt::convert_file(path, base)?;
+            for w in &converted.warnings {
+                eprintln!("warning: {w}");
+            }
+            let desc = parse_scene(&converted.ron, path)?;
+            spawn_scene(&desc, &converted.ron, path, base, world, res)
+        }
         "txt" => {
             // A 6.837 scene: spawned through its RON equivalent (what `prism convert` writes).
             let base = path.parent().unwrap_or(Path::new("."));
-            let text = mit6837::convert_file(path, base)?.ron;
+            let text = mit6837::convert_file(path, base, res.overrides.exact_curves)?.ron;
             let desc = parse_scene(&text, path)?;
             spawn_scene(&desc, &text, path, base, world, res)
         }
         "" => Err(PrismError::invalid(format!(
-            "{}: scene file has no extension (expected .ron, .obj or a 6.837 .txt)",
+            "{}: scene file has no extension (expected .ron, .obj, .ply, .gltf, .glb, .pbrt or a 6.837 .txt)",
             path.display()
         ))),
         other => Err(PrismError::invalid(format!(
-            "{}: unsupported scene format '.{other}' (expected .ron, .obj or a 6.837 .txt)",
+            "{}: unsupported scene format '.{other}' (expected .ron, .obj, .ply, .gltf, .glb, .pbrt or a 6.837 .txt)",
             path.display()
         ))),
     }
 }
 
+/// A bare PLY mesh as a scene: grey Lambert, framed and lit like a bare OBJ.
+fn load_ply_scene(path: &Path, world: &mut World, res: &mut Resources) -> Result<FileSettings> {
+    res.materials.push(Material::default());
+    let mesh = ply::load_ply(path)?;
+    let (lo, hi) =
+        mesh.positions.iter().fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), p| (lo.min(*p), hi.max(*p)));
+    let name = Name(mesh.name.clone());
+    let h = res.meshes.add(mesh);
+    world.spawn((name, Shape::Mesh(h)));
+    spawn_framing_camera_and_headlight(world, lo, hi);
+    Ok(FileSettings::default())
+}
+
 /// A bare OBJ file as a scene: the mesh with its MTL materials, a camera framing it from +z, and a headlight
 /// (a directional light along the view, irradiance pi, so an albedo-a surface facing the camera shows radiance a).
 fn load_obj_scene(path: &Path, world: &mut World, res: &mut Resources) -> Result<FileSettings> {
-    if !path.is_file() {
-        return Err(PrismError::io(path, std::io::Error::new(std::io::ErrorKind::NotFound, "scene file not found")));
-    }
+    crate::io::open_regular(path, "scene file")?;
     res.materials.push(Material::default());
     let parts = load_obj(path)?;
     let mut lo = Vec3::splat(f32::INFINITY);
@@ -112,9 +156,16 @@ fn load_obj_scene(path: &Path, world: &mut World, res: &mut Resources) -> Result
             world.insert_one(e, MaterialId(id)).ok();
         }
         if let Some(radiance) = part.emission {
-            world.insert_one(e, Light::Area { radiance, two_sided: false }).ok();
+            world.insert_one(e, Light::Area { radiance, two_sided: false, texture: None }).ok();
         }
     }
+    spawn_framing_camera_and_headlight(world, lo, hi);
+    Ok(FileSettings::default())
+}
+
+/// A 256 x 256 camera framing the box `[lo, hi]` from +z (fov 40) and a headlight along the view (irradiance pi).
+fn spawn_framing_camera_and_headlight(world: &mut World, lo: Vec3, hi: Vec3) {
+    let (lo, hi) = if lo.cmple(hi).all() { (lo, hi) } else { (Vec3::ZERO, Vec3::ZERO) };
     let center = 0.5 * (lo + hi);
     let radius = (0.5 * (hi - lo).length()).max(1e-6);
     let fov: f32 = 40.0;
@@ -131,13 +182,13 @@ fn load_obj_scene(path: &Path, world: &mut World, res: &mut Resources) -> Result
             height: 256,
             aperture_radius: 0.0,
             focus_distance: dist,
+            ..Camera::default()
         },
     ));
     world.spawn((
         Name("headlight".into()),
         Light::Directional { irradiance: Vec3::splat(std::f32::consts::PI), direction: -Vec3::Z },
     ));
-    Ok(FileSettings::default())
 }
 
 /// Merge file settings and overrides into `res.settings`; apply `--size` to the camera.

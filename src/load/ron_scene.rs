@@ -10,7 +10,9 @@ use std::path::Path;
 
 /// Parse scene text. `file` only names the source in errors.
 pub fn parse_scene<'a>(text: &'a str, file: &Path) -> Result<SceneDesc<'a>> {
-    let opts = ron::Options::default().with_default_extension(Extensions::IMPLICIT_SOME);
+    let opts = ron::Options::default()
+        .with_default_extension(Extensions::IMPLICIT_SOME)
+        .with_recursion_limit(super::RON_RECURSION_LIMIT);
     opts.from_str::<SceneDesc>(text).map_err(|e| PrismError::Parse {
         pos: SourcePos { file: file.to_path_buf(), line: e.span.start.line, col: e.span.start.col },
         message: describe(&e.code),
@@ -37,19 +39,59 @@ pub fn describe(code: &ron::Error) -> String {
         }
         ron::Error::MissingStructField { field, .. } => format!("missing field `{field}`"),
         ron::Error::DuplicateStructField { field, .. } => format!("field `{field}` given twice"),
+        ron::Error::SuggestRawIdentifier(found) => {
+            format!("expected a name here, found `{}`", crate::error::printable(found))
+        }
+        ron::Error::ExceededRecursionLimit => format!(
+            "nested too deeply (Prism reads at most {} levels of nested entities)",
+            crate::limits::MAX_NESTING_DEPTH
+        ),
         other => rename_types(&other.to_string()),
     }
 }
 
 fn rename_types(s: &str) -> String {
-    s.replace("`SceneDesc`", "the scene")
-        .replace("`RenderDesc`", "`render`")
-        .replace("`CameraDesc`", "`camera`")
-        .replace("`EntityDesc`", "an entity")
-        .replace("`MaterialDesc`", "a material")
-        .replace("`ShapeDesc`", "a shape")
-        .replace("`LightDesc`", "a light")
-        .replace("`TransformOp`", "a transform")
+    // Serde names the schema's Rust types (`expected enum AccelDesc`); say what they are in the file instead.
+    const NAMES: [(&str, &str); 30] = [
+        ("SceneDesc", "the scene"),
+        ("RenderDesc", "`render`"),
+        ("CameraDesc", "`camera`"),
+        ("EntityDesc", "an entity"),
+        ("MaterialDesc", "a material"),
+        ("ShapeDesc", "a shape"),
+        ("LightDesc", "a light"),
+        ("TransformOp", "a transform"),
+        ("AccelDesc", "an accelerator (`bvh`, `kdtree`, `grid` or `brute`)"),
+        ("TextureDesc", "a texture"),
+        ("TextureRef", "a texture reference"),
+        ("ColorDesc", "a colour"),
+        ("ScalarDesc", "a number or texture"),
+        ("ScaleDesc", "a scale"),
+        ("Channel", "a channel (`R`, `G`, `B` or `Mean`)"),
+        ("Wrap", "a wrap mode"),
+        ("SourceLayout", "a layout (`Equirect`, `Cross` or `Faces`)"),
+        ("SamplerKind", "a sampler"),
+        ("PixelPattern", "a pixel pattern"),
+        ("PixelFilter", "a pixel filter"),
+        ("PhongParams", "phong's parameters"),
+        ("EnvlightParams", "envlight's parameters"),
+        ("PpmParams", "ppm's parameters"),
+        ("DebugParams", "debug's parameters"),
+        ("EnvStrategy", "an environment sampling strategy"),
+        ("DebugMode", "a debug mode"),
+        ("HeatCount", "a heat count"),
+        ("PpmMode", "a ppm mode"),
+        ("PhotonLookup", "a photon lookup"),
+        ("V3", "a vector"),
+    ];
+    let mut out = s.to_string();
+    for (ty, words) in NAMES {
+        out = out.replace(&format!("`{ty}`"), words);
+        for kind in ["struct", "enum"] {
+            out = out.replace(&format!("{kind} {ty}"), words);
+        }
+    }
+    out
 }
 
 /// 1-based line and column of byte `offset` in `text`.

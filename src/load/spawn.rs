@@ -2,7 +2,8 @@
 //! only the components it uses; materials and meshes go to the resource tables. All semantic validation happens
 //! here, with errors naming the file and the entity.
 
-use super::desc::{AccelDesc, CameraDesc, EntityDesc, LightDesc, SceneDesc, ShapeDesc, V3};
+use super::curved;
+use super::desc::{AccelDesc, CameraDesc, EntityDesc, LightDesc, SceneDesc, ShapeDesc, TessellationDesc, V3};
 use super::materials::MaterialEntry;
 use super::obj::load_obj;
 use super::ron_scene::plugin_config;
@@ -39,8 +40,10 @@ struct Spawner<'r> {
     base_dir: PathBuf,
     res: &'r mut Resources,
     materials: HashMap<String, MaterialEntry>,
+    textures: HashMap<String, u32>,
+    inline_meshes: HashMap<String, crate::components::MeshHandle>,
     mtl_ids: HashMap<(PathBuf, String), u32>,
-    part_cache: HashMap<(PathBuf, bool), Vec<MeshPart>>,
+    part_cache: HashMap<(PathBuf, bool, bool), Vec<MeshPart>>,
 }
 
 fn color(v: V3, what: &str, ctx: &str) -> Result<Vec3> {
@@ -77,11 +80,15 @@ pub fn spawn_scene(
         base_dir: base_dir.to_path_buf(),
         res,
         materials: HashMap::new(),
+        textures: HashMap::new(),
+        inline_meshes: HashMap::new(),
         mtl_ids: HashMap::new(),
         part_cache: HashMap::new(),
     };
     let textures = super::materials::load_textures(&desc.textures, base_dir, &ctx, sp.res)?;
     sp.materials = super::materials::load_materials(&desc.materials, &textures, &ctx, sp.res)?;
+    sp.textures = textures;
+    sp.inline_meshes = super::inline_mesh::load_meshes(&desc.meshes, &ctx, &mut sp.res.meshes)?;
     if let Some(cam) = &desc.camera {
         let c = camera_component(cam, &format!("{ctx}: camera"))?;
         world.spawn((Name("camera".into()), c));
@@ -143,8 +150,15 @@ pub fn camera_component(c: &CameraDesc, ctx: &str) -> Result<Camera> {
             return Err(PrismError::scene(ctx, format!("fov must be between 0 and 180 degrees, got {}", c.fov)));
         }
     };
+    if eye.abs().max(target.abs()).max_element() > crate::limits::MAX_COORDINATE {
+        return Err(PrismError::scene(
+            ctx,
+            format!("eye and target must lie within Prism's coordinate limit of {:e}", crate::limits::MAX_COORDINATE),
+        ));
+    }
     let fwd = target - eye;
-    if fwd.length_squared() == 0.0 || fwd.cross(up).length_squared() == 0.0 {
+    let (fwd_unit, up_unit) = (crate::math::unit_vector(fwd), crate::math::unit_vector(up));
+    if fwd_unit.zip(up_unit).is_none_or(|(f, u)| f.cross(u).length_squared() < 1e-12) {
         return Err(PrismError::scene(
             ctx,
             "eye, target and up do not define a view (eye == target or up parallel to the view)",
@@ -152,6 +166,20 @@ pub fn camera_component(c: &CameraDesc, ctx: &str) -> Result<Camera> {
     }
     if !(c.aperture_radius.is_finite() && c.aperture_radius >= 0.0) {
         return Err(PrismError::scene(ctx, format!("aperture_radius must be >= 0, got {}", c.aperture_radius)));
+    }
+    if let Some(w) = c.crop
+        && !(w.iter().all(|v| v.is_finite())
+            && 0.0 <= w[0]
+            && w[0] < w[2]
+            && w[2] <= 1.0
+            && 0.0 <= w[1]
+            && w[1] < w[3]
+            && w[3] <= 1.0)
+    {
+        return Err(PrismError::scene(
+            ctx,
+            format!("crop must be (x_min, y_min, x_max, y_max) with 0 <= min < max <= 1, got {w:?}"),
+        ));
     }
     let focus_distance = c.focus_distance.unwrap_or(fwd.length());
     if !(focus_distance.is_finite() && focus_distance > 0.0) {
@@ -166,12 +194,28 @@ pub fn camera_component(c: &CameraDesc, ctx: &str) -> Result<Camera> {
         height: c.size.1,
         aperture_radius: c.aperture_radius,
         focus_distance,
+        mirror: c.mirror,
+        crop: c.crop,
     })
 }
 
 impl Spawner<'_> {
     fn ctx(&self) -> String {
         self.file.display().to_string()
+    }
+
+    /// An image texture of `textures` for an area light's emission.
+    fn emission_texture(&self, name: &str, ctx: &str) -> Result<crate::texture::ImageMap> {
+        let id = self
+            .textures
+            .get(name)
+            .ok_or_else(|| PrismError::scene(ctx, format!("area light: unknown texture '{name}'")))?;
+        match self.res.textures.get(*id) {
+            crate::texture::Texture::Image(m) => Ok(m.clone()),
+            crate::texture::Texture::Solid(_) => {
+                Err(PrismError::scene(ctx, format!("area light: texture '{name}' must be an image")))
+            }
+        }
     }
 
     fn lookup_material(&self, name: &str, ctx: &str) -> Result<&MaterialEntry> {
@@ -213,7 +257,7 @@ impl Spawner<'_> {
             None => (None, None),
         };
         let light = match &e.light {
-            None => mat_emission.map(|(radiance, two_sided)| Light::Area { radiance, two_sided }),
+            None => mat_emission.map(|(radiance, two_sided)| Light::Area { radiance, two_sided, texture: None }),
             Some(_) if mat_emission.is_some() && e.material.is_some() => {
                 return Err(PrismError::scene(&ctx, "has both an emissive material and a light; use one"));
             }
@@ -228,7 +272,7 @@ impl Spawner<'_> {
                     attenuation,
                 })
             }
-            Some(LightDesc::Spot { intensity, position, direction, target, cone_angle, falloff }) => {
+            Some(LightDesc::Spot { intensity, position, direction, target, cone_angle, falloff, profile }) => {
                 let position = point(*position, "position", &ctx)?;
                 let direction = match (direction, target) {
                     (Some(_), Some(_)) => {
@@ -238,12 +282,12 @@ impl Spawner<'_> {
                     (None, Some(t)) => point(*t, "target", &ctx)? - position,
                     (None, None) => Vec3::NEG_Y,
                 };
-                if direction == Vec3::ZERO {
+                let Some(direction) = crate::math::unit_vector(direction) else {
                     return Err(PrismError::scene(
                         &ctx,
                         "spot light direction is the zero vector (target == position)",
                     ));
-                }
+                };
                 if !(cone_angle.is_finite() && *cone_angle > 0.0 && *cone_angle <= 180.0) {
                     return Err(PrismError::scene(
                         &ctx,
@@ -262,17 +306,21 @@ impl Spawner<'_> {
                     direction,
                     cone_angle: *cone_angle,
                     falloff: *falloff,
+                    profile: *profile,
                 })
             }
             Some(LightDesc::Directional { irradiance, direction }) => {
-                let d = point(*direction, "direction", &ctx)?;
-                if d == Vec3::ZERO {
+                let Some(d) = crate::math::unit_vector(point(*direction, "direction", &ctx)?) else {
                     return Err(PrismError::scene(&ctx, "directional light direction is the zero vector"));
-                }
+                };
                 Some(Light::Directional { irradiance: color(*irradiance, "irradiance", &ctx)?, direction: d })
             }
-            Some(LightDesc::Area { radiance, two_sided }) => {
-                Some(Light::Area { radiance: color(*radiance, "radiance", &ctx)?, two_sided: *two_sided })
+            Some(LightDesc::Area { radiance, two_sided, texture }) => {
+                let texture = match texture {
+                    None => None,
+                    Some(name) => Some(self.emission_texture(name, &ctx)?),
+                };
+                Some(Light::Area { radiance: color(*radiance, "radiance", &ctx)?, two_sided: *two_sided, texture })
             }
             Some(LightDesc::Environment { map, faces, layout, radiance, scale }) => {
                 if !(scale.is_finite() && *scale >= 0.0) {
@@ -286,6 +334,7 @@ impl Spawner<'_> {
                     (None, Some(f)) => f.iter().map(|p| self.base_dir.join(p)).collect(),
                     (None, None) => vec![],
                 };
+                self.res.inputs.extend(paths.iter().cloned());
                 let map = if paths.is_empty() {
                     None
                 } else {
@@ -294,14 +343,28 @@ impl Spawner<'_> {
                             .map_err(|e| PrismError::scene(&ctx, e.to_string()))?,
                     ))
                 };
-                Some(Light::Environment { radiance: color(*radiance, "radiance", &ctx)? * *scale, map })
+                let radiance = color(*radiance, "radiance", &ctx)? * *scale;
+                // The brightest texel times radiance and scale must stay finite (power and sampling sum them).
+                let peak = map.as_ref().map_or(1.0, |m| {
+                    m.images.iter().flat_map(|i| &i.texels).fold(0.0f32, |a, t| a.max(t.max_element()))
+                });
+                if !(radiance * peak * 4.0 * std::f32::consts::PI).is_finite() {
+                    return Err(PrismError::scene(
+                        &ctx,
+                        format!(
+                            "environment radiance x scale ({radiance}) times the map's brightest texel ({peak}) \
+                             overflows single precision"
+                        ),
+                    ));
+                }
+                Some(Light::Environment { radiance, map })
             }
         };
         match (&light, &e.shape) {
             (Some(Light::Area { .. }), None) => {
                 return Err(PrismError::scene(
                     &ctx,
-                    "an area light needs a shape (sphere, triangle, quad, cube or mesh)",
+                    "an area light needs a shape (sphere, triangle, quad, cube, mesh, revolution or Bézier patch)",
                 ));
             }
             (
@@ -327,6 +390,15 @@ impl Spawner<'_> {
         if let Some(id) = mat_id {
             b.add(MaterialId(id));
         }
+        let alpha = match &e.alpha {
+            Some(a) => Some(super::inline_mesh::alpha_mask(a, &self.textures, &self.res.textures, &ctx)?),
+            None => None,
+        };
+        if let Some(a) = &alpha
+            && mesh_parts.is_empty()
+        {
+            b.add(a.clone());
+        }
         if let Some(l) = &light
             && mesh_parts.is_empty()
         {
@@ -344,19 +416,22 @@ impl Spawner<'_> {
                 (None, Some(id)) => cb.add(MaterialId(id)),
                 (None, None) => &mut cb,
             };
+            if let Some(a) = &alpha {
+                cb.add(a.clone());
+            }
             match (&light, part.emission) {
                 (Some(l), _) => {
                     cb.add(l.clone());
                 }
                 (None, Some(radiance)) => {
-                    cb.add(Light::Area { radiance, two_sided: false });
+                    cb.add(Light::Area { radiance, two_sided: false, texture: None });
                 }
                 _ => {}
             }
             world.spawn(cb.build());
         }
         for (i, c) in e.children.iter().enumerate() {
-            self.spawn_entity(world, c, Some(entity), material_name, &format!("{path}.children[{i}]"))?;
+            self.spawn_entity(world, c, Some(entity), material_name, &child_path(path, i))?;
         }
         Ok(())
     }
@@ -374,8 +449,21 @@ impl Spawner<'_> {
                 if n == Vec3::ZERO || !offset.is_finite() {
                     return Err(PrismError::scene(ctx, "plane needs a non-zero normal and a finite offset"));
                 }
-                let len = n.length();
-                Shape::Plane { normal: n / len, offset: offset / len }
+                // In f64: the squared length of a tiny normal (1e-30) would underflow in f32.
+                let n64 = n.as_dvec3();
+                let len = n64.length();
+                let d = *offset as f64 / len;
+                if d.abs() > crate::limits::MAX_COORDINATE as f64 {
+                    return Err(PrismError::scene(
+                        ctx,
+                        format!(
+                            "plane `normal . x = offset` lies {d:e} from the origin, beyond Prism's coordinate limit \
+                             of {:e}",
+                            crate::limits::MAX_COORDINATE
+                        ),
+                    ));
+                }
+                Shape::Plane { normal: (n64 / len).as_vec3(), offset: d as f32 }
             }
             ShapeDesc::Triangle { vertices, normals, uvs } => {
                 let p = [
@@ -390,8 +478,7 @@ impl Spawner<'_> {
                     .map(|ns| -> Result<[Vec3; 3]> {
                         let mut out = [Vec3::ZERO; 3];
                         for (o, v) in out.iter_mut().zip(ns) {
-                            *o = point(v, "normal", ctx)?
-                                .try_normalize()
+                            *o = crate::math::unit_vector(point(v, "normal", ctx)?)
                                 .ok_or_else(|| PrismError::scene(ctx, "triangle normal is zero"))?;
                         }
                         Ok(out)
@@ -420,26 +507,75 @@ impl Spawner<'_> {
                 Shape::Mesh(self.res.meshes.add(mesh))
             }
             ShapeDesc::Cube => Shape::Mesh(self.res.meshes.add(MeshData::unit_cube())),
-            ShapeDesc::Mesh { path, flat } => {
+            ShapeDesc::Mesh { path, flat, reverse } => {
                 let full = self.base_dir.join(path);
-                return self.mesh_file(&full, *flat, ctx);
+                return self.mesh_file(&full, *flat, *reverse, ctx);
+            }
+            ShapeDesc::TriangleMesh(name) => Shape::Mesh(*self.inline_meshes.get(name).ok_or_else(|| {
+                let mut known: Vec<&str> = self.inline_meshes.keys().map(String::as_str).collect();
+                known.sort();
+                PrismError::scene(ctx, format!("unknown mesh '{name}' (defined: {})", known.join(", ")))
+            })?),
+            ShapeDesc::Revolution { profile, tessellation } => {
+                let profile = curved::profile_curve(profile, ctx)?;
+                curved::revolution_shape(self.res, profile, self.tessellation(*tessellation), ctx)?
+            }
+            ShapeDesc::BezierPatch { points, tessellation } => {
+                let points = curved::patch_points(points, ctx)?;
+                curved::patch_shape(self.res, points, self.tessellation(*tessellation), ctx)?
+            }
+            ShapeDesc::Splines { path, tessellation } => {
+                let full = self.base_dir.join(path);
+                let mut parts = curved::spline_file_shapes(self.res, &full, self.tessellation(*tessellation), ctx)?;
+                if parts.len() == 1 {
+                    return Ok(ShapeOut::One(parts.remove(0).1));
+                }
+                return Ok(ShapeOut::Parts(
+                    parts
+                        .into_iter()
+                        .map(|(name, shape)| MeshPart { name, shape, material: None, emission: None })
+                        .collect(),
+                ));
             }
         }))
     }
 
-    fn mesh_file(&mut self, path: &Path, flat: bool, ctx: &str) -> Result<ShapeOut> {
+    /// The tessellation a curved shape asks for, unless curves are rendered exactly (`--exact-curves`).
+    fn tessellation(&self, t: Option<TessellationDesc>) -> Option<TessellationDesc> {
+        if self.res.overrides.exact_curves { None } else { t }
+    }
+
+    fn mesh_file(&mut self, path: &Path, flat: bool, reverse: bool, ctx: &str) -> Result<ShapeOut> {
         let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
-        if ext != "obj" {
+        if ext != "obj" && ext != "ply" {
             return Err(PrismError::scene(
                 ctx,
-                format!("mesh '{}': unsupported format (expected .obj)", path.display()),
+                format!("mesh '{}': unsupported format (expected .obj or .ply)", path.display()),
             ));
         }
-        if !path.is_file() {
-            return Err(PrismError::scene(ctx, format!("mesh file not found: {}", path.display())));
+        if let Err(e) = crate::io::open_regular(path, "mesh file") {
+            return Err(PrismError::scene(ctx, e.to_string()));
         }
+        self.res.inputs.push(path.to_path_buf());
         let key = path.to_path_buf();
-        let parts = if let Some(p) = self.part_cache.get(&(key.clone(), flat)) {
+        if ext == "ply" {
+            // One mesh, no materials: loaded once per (file, flat, reverse) and shared by every entity using it.
+            if let Some(p) = self.part_cache.get(&(key.clone(), flat, reverse)) {
+                return Ok(ShapeOut::One(p[0].shape.clone()));
+            }
+            let mut mesh = super::ply::load_ply(path)?;
+            if flat {
+                mesh.normals.clear();
+            }
+            if reverse {
+                super::inline_mesh::reverse_winding(&mut mesh);
+            }
+            let shape = Shape::Mesh(self.res.meshes.add(mesh));
+            let part = MeshPart { name: String::new(), shape: shape.clone(), material: None, emission: None };
+            self.part_cache.insert((key, flat, reverse), vec![part]);
+            return Ok(ShapeOut::One(shape));
+        }
+        let parts = if let Some(p) = self.part_cache.get(&(key.clone(), flat, reverse)) {
             // Referenced before: share the meshes and materials.
             p.clone()
         } else {
@@ -448,6 +584,9 @@ impl Spawner<'_> {
             for mut part in loaded {
                 if flat {
                     part.mesh.normals.clear();
+                }
+                if reverse {
+                    super::inline_mesh::reverse_winding(&mut part.mesh);
                 }
                 let material = part.material.map(|m| {
                     let k = (key.clone(), m.name.clone());
@@ -460,7 +599,7 @@ impl Spawner<'_> {
                 let h = self.res.meshes.add(part.mesh);
                 out.push(MeshPart { name, shape: Shape::Mesh(h), material, emission: part.emission });
             }
-            self.part_cache.insert((key.clone(), flat), out.clone());
+            self.part_cache.insert((key.clone(), flat, reverse), out.clone());
             out
         };
         if parts.len() == 1 && parts[0].emission.is_none() && parts[0].material.is_none() {
@@ -468,6 +607,22 @@ impl Spawner<'_> {
         }
         Ok(ShapeOut::Parts(parts))
     }
+}
+
+/// The label of an unnamed child: `entities[0].children[2]`; deep paths keep their start and the nesting level
+/// (`entities[0].children[0]....children[2] (level 5000)`) so labels stay short at any depth.
+fn child_path(path: &str, i: usize) -> String {
+    const KEEP: usize = 120;
+    let level = match path.rfind(" (level ") {
+        Some(at) => path[at + 8..].trim_end_matches(')').parse::<usize>().unwrap_or(0) + 1,
+        None => path.matches(".children[").count() + 1,
+    };
+    if path.len() < KEEP {
+        return format!("{path}.children[{i}]");
+    }
+    let head: String = path.chars().take(KEEP / 2).collect();
+    let head = head.rsplit_once(".children[").map_or(head.as_str(), |(h, _)| h).to_string();
+    format!("{head}....children[{i}] (level {level})")
 }
 
 #[derive(Clone)]

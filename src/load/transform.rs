@@ -52,7 +52,8 @@ fn op_matrix(op: &TransformOp, context: &str) -> Result<Affine3A> {
         TransformOp::Rotate { axis, degrees } => {
             finite(axis, "Rotate axis", context)?;
             finite(&[*degrees], "Rotate degrees", context)?;
-            let a = Vec3::from(*axis).try_normalize().ok_or_else(|| bad(context, "Rotate axis is the zero vector"))?;
+            let a = crate::math::unit_vector(Vec3::from(*axis))
+                .ok_or_else(|| bad(context, "Rotate axis is the zero vector"))?;
             Affine3A::from_quat(Quat::from_axis_angle(a, degrees.to_radians()))
         }
         TransformOp::Euler(e) => {

@@ -43,7 +43,7 @@ pub fn build_scene_system(world: &mut World, res: &mut Resources) -> Result<()> 
         CameraRig::new(cam, &wfl.map(|w| w.0).unwrap_or_default())
             .ok_or_else(|| PrismError::invalid("camera: eye, target and up do not define a view"))?
     };
-    let (prims, emitters) = Primitives::build(world, &res.meshes, &res.materials)?;
+    let (prims, emitters) = Primitives::build(world, &res.meshes, &res.materials).map_err(|e| in_scene_file(res, e))?;
     if prims.skipped_degenerate > 0 {
         eprintln!("warning: skipped {} degenerate (zero-area or non-finite) mesh triangles", prims.skipped_degenerate);
     }
@@ -57,15 +57,33 @@ pub fn build_scene_system(world: &mut World, res: &mut Resources) -> Result<()> 
         materials: res.materials.clone(),
         textures: res.textures.clone(),
         globals: res.globals,
+        cancel: res.cancel.clone(),
     });
     res.progress.setup += t0.elapsed();
     Ok(())
 }
 
+/// A scene error raised after Load names an entity but not the file: prefix the scene file's name.
+pub fn in_scene_file(res: &Resources, e: PrismError) -> PrismError {
+    let file = match &res.source {
+        crate::app::SceneSource::File(p) => p.display().to_string(),
+        crate::app::SceneSource::RonText { name, .. } => name.display().to_string(),
+        crate::app::SceneSource::Prebuilt => return e,
+    };
+    match e {
+        PrismError::Scene { context, message } if !context.starts_with(&file) => {
+            PrismError::Scene { context: format!("{file}: {context}"), message }
+        }
+        other => other,
+    }
+}
+
 pub fn build_lights_system(world: &mut World, res: &mut Resources) -> Result<()> {
     let emitters = res.get::<Emitters>().map(|e| e.0.clone()).unwrap_or_default();
-    let scene = res.scene.as_mut().ok_or_else(|| PrismError::invalid("no scene: the BuildAccel stage did not run"))?;
-    scene.lights = LightSet::build(world, &scene.prims, &emitters)?;
+    let lights = LightSet::build(world, &res.scene()?.prims, &emitters).map_err(|e| in_scene_file(res, e))?;
+    if let Some(scene) = res.scene.as_mut() {
+        scene.lights = lights;
+    }
     Ok(())
 }
 

@@ -75,12 +75,7 @@ impl TexImage {
 
     /// Read an image file. `raw`: keep 8/16-bit values as stored (data maps); otherwise decode them from sRGB.
     pub fn load(path: &Path, raw: bool) -> Result<Self> {
-        if !path.is_file() {
-            return Err(PrismError::io(
-                path,
-                std::io::Error::new(std::io::ErrorKind::NotFound, "texture file not found"),
-            ));
-        }
+        crate::io::open_regular(path, "texture file")?;
         let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
         let img = if ext == "exr" {
             let im = crate::io::read_exr(path)?;
@@ -108,29 +103,52 @@ impl TexImage {
 
     /// PNG, JPEG or Radiance HDR through the image crate.
     fn decode(path: &Path, raw: bool) -> Result<Self> {
-        let mut reader = image::ImageReader::open(path)
+        let reader = image::ImageReader::open(path)
             .map_err(|e| PrismError::io(path, e))?
             .with_guessed_format()
             .map_err(|e| PrismError::io(path, e))?;
+        Ok(Self::from_dynamic(&Self::decode_reader(reader, path)?, raw))
+    }
+
+    /// Decode an image held in memory (PNG, JPEG or Radiance HDR; a glTF buffer view or data URI). `what` names
+    /// the source in errors. Sizes above [`MAX_TEXTURE_SIZE`] are refused before any pixel is allocated.
+    pub fn decode_bytes(bytes: &[u8], what: &Path) -> Result<image::DynamicImage> {
+        let reader = image::ImageReader::new(std::io::Cursor::new(bytes))
+            .with_guessed_format()
+            .map_err(|e| PrismError::io(what, e))?;
+        Self::decode_reader(reader, what)
+    }
+
+    fn decode_reader<R: std::io::BufRead + std::io::Seek>(
+        mut reader: image::ImageReader<R>,
+        what: &Path,
+    ) -> Result<image::DynamicImage> {
         let mut limits = image::Limits::default();
         limits.max_image_width = Some(MAX_TEXTURE_SIZE);
         limits.max_image_height = Some(MAX_TEXTURE_SIZE);
         reader.limits(limits);
-        let dynimg =
-            reader.decode().map_err(|e| PrismError::format(path, format!("cannot decode texture image: {e}")))?;
+        let img = reader.decode().map_err(|e| PrismError::format(what, format!("cannot decode texture image: {e}")))?;
+        if img.width() == 0 || img.height() == 0 {
+            return Err(PrismError::format(what, "texture has no pixels"));
+        }
+        Ok(img)
+    }
+
+    /// The texels of a decoded image: 8- and 16-bit values decoded from sRGB unless `raw`, float images as they are.
+    pub fn from_dynamic(dynimg: &image::DynamicImage, raw: bool) -> Self {
         use image::ColorType as C;
         let color = dynimg.color();
         let gray = matches!(color, C::L8 | C::La8 | C::L16 | C::La16);
         let float = matches!(color, C::Rgb32F | C::Rgba32F);
         let (w, h) = (dynimg.width(), dynimg.height());
         let texels: Vec<Vec3> = if float {
-            dynimg.into_rgb32f().pixels().map(|p| Vec3::new(p[0], p[1], p[2])).collect()
+            dynimg.to_rgb32f().pixels().map(|p| Vec3::new(p[0], p[1], p[2])).collect()
         } else if matches!(color, C::L16 | C::La16 | C::Rgb16 | C::Rgba16) {
             let dec = |v: u16| {
                 let c = v as f32 / 65535.0;
                 if raw { c } else { srgb_to_linear(c) }
             };
-            dynimg.into_rgb16().pixels().map(|p| Vec3::new(dec(p[0]), dec(p[1]), dec(p[2]))).collect()
+            dynimg.to_rgb16().pixels().map(|p| Vec3::new(dec(p[0]), dec(p[1]), dec(p[2]))).collect()
         } else {
             // A table of the 256 decoded byte values: exact, and fast for large images.
             let table: Vec<f32> = (0..256u32)
@@ -140,12 +158,22 @@ impl TexImage {
                 })
                 .collect();
             dynimg
-                .into_rgb8()
+                .to_rgb8()
                 .pixels()
                 .map(|p| Vec3::new(table[p[0] as usize], table[p[1] as usize], table[p[2] as usize]))
                 .collect()
         };
-        Ok(TexImage { width: w, height: h, texels, gray })
+        TexImage { width: w, height: h, texels, gray }
+    }
+
+    /// The alpha channel of a decoded image as a grey image (linear: alpha is never sRGB-encoded), or `None` when
+    /// the image has no alpha channel.
+    pub fn alpha_from_dynamic(dynimg: &image::DynamicImage) -> Option<Self> {
+        if !dynimg.color().has_alpha() {
+            return None;
+        }
+        let texels = dynimg.to_rgba32f().pixels().map(|p| Vec3::splat(p[3])).collect();
+        Some(TexImage { width: dynimg.width(), height: dynimg.height(), texels, gray: true })
     }
 
     #[inline]

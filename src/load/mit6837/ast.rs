@@ -119,11 +119,14 @@ pub enum ObjectTxt {
         vertices: [Vec3; 3],
         material: usize,
     },
-    /// `path` resolved against the scene file's folder.
+    /// `path` resolved against the scene file's folder. `splines`: for a mesh assignment 8's curve editor made
+    /// (`course_meshes.rs`), the spline file next to the scene and the resolutions it was made with (the mesh file
+    /// itself may then be missing).
     Mesh {
         line: usize,
         path: PathBuf,
         material: usize,
+        splines: Option<(PathBuf, super::spline::Tessellation)>,
     },
 }
 

@@ -13,9 +13,11 @@
 //! | `Transform { ops object }`, nested | an entity with `transform: [ops]` and the object as its child |
 //! | `MaterialIndex i` | the material of every following object, in file order |
 //! | `Checkerboard`, `Noise`, `Marble`, `Wood` (a6) | a solid texture `t{i}` (`Checker3d`, `Noise`, `Marble`, `Wood` with the block's transform, octaves, frequency, amplitude) and `Blend` of the two materials weighted by it |
+//! | `TriangleMesh { obj_file torus_high.obj }` (assignment 8, file missing) | `Splines(path: "spline8_06_torus.txt", tessellation: Some((curve: 30, revolution: 60, patch: 10)))`: the course's mesh, made on the fly; `tessellation: None` (exact surfaces) with `--exact-curves` |
 //! | image size (a command-line option in the course) | 200 x 200, the course's usual `-size` |
 
 use super::ast::{CameraTxt, LightTxt, MaterialTxt, ObjectTxt, OpTxt, PhongTxt, SceneTxt, SolidTxt, SolidTxtKind};
+use super::spline::SplineTxt;
 use crate::error::Result;
 use crate::geometry::Bounds;
 use crate::load::desc::TransformOp;
@@ -79,6 +81,8 @@ pub fn relative_path(path: &Path, base: &Path) -> PathBuf {
 struct Writer<'a> {
     file: &'a Path,
     mesh_base: &'a Path,
+    /// Replace assignment 8's meshes by the exact surfaces of their spline files.
+    exact_curves: bool,
     out: String,
     /// World bounds of the bounded objects (for the orthographic camera).
     bounds: Bounds,
@@ -92,7 +96,8 @@ impl Writer<'_> {
     }
 
     fn object(&mut self, o: &ObjectTxt, m: &Affine3A, indent: usize) -> Result<()> {
-        let pad = " ".repeat(indent);
+        // Indentation stops growing after 16 levels: deep nesting must not make the text quadratic in size.
+        let pad = " ".repeat(indent.min(64));
         match o {
             ObjectTxt::Group { line, children } => {
                 let _ = writeln!(self.out, "{pad}(name: {:?}, children: [", self.label("Group", *line));
@@ -141,7 +146,41 @@ impl Writer<'_> {
                     v3(vertices[2])
                 );
             }
-            ObjectTxt::Mesh { line, path, material } => {
+            ObjectTxt::Mesh { line, path, material, splines } => {
+                if let Some((spline, tess)) = splines
+                    && (self.exact_curves || !path.is_file())
+                {
+                    for item in super::spline::parse_spline_file(spline)? {
+                        let pts: Vec<glam::DVec3> = match &item {
+                            SplineTxt::Curve { .. } => vec![],
+                            SplineTxt::Revolution { profile, .. } => {
+                                let (lo, hi) = profile.hull_bounds();
+                                let r = lo.x.abs().max(hi.x.abs());
+                                vec![glam::DVec3::new(-r, lo.y, -r), glam::DVec3::new(r, hi.y, r)]
+                            }
+                            SplineTxt::Patch { points, .. } => points.to_vec(),
+                        };
+                        for p in pts {
+                            self.bounds = self.bounds.with_point(m.transform_point3a(Vec3A::from(p.as_vec3())));
+                        }
+                    }
+                    let rel = relative_path(spline, self.mesh_base);
+                    let tessellation = if self.exact_curves {
+                        "None".to_string()
+                    } else {
+                        format!("Some((curve: {}, revolution: {}, patch: {}))", tess.curve, tess.revolution, tess.patch)
+                    };
+                    let _ = writeln!(
+                        self.out,
+                        "{pad}(name: {:?}, shape: Splines(path: {:?}, tessellation: {tessellation}), material: \"m{material}\"),",
+                        self.label(
+                            &format!("TriangleMesh {}", path.file_name().unwrap_or_default().to_string_lossy()),
+                            *line
+                        ),
+                        rel.to_string_lossy()
+                    );
+                    return Ok(());
+                }
                 for part in load_obj(path)? {
                     for p in &part.mesh.positions {
                         self.bounds = self.bounds.with_point(m.transform_point3a(Vec3A::from(*p)));
@@ -202,9 +241,11 @@ pub struct Converted {
 }
 
 /// The RON text of a parsed 6.837 scene. `file` names the source (entity names carry its lines); mesh paths
-/// are written relative to `mesh_base` (the folder the RON file will live in).
-pub fn to_ron(scene: &SceneTxt, file: &Path, mesh_base: &Path) -> Result<Converted> {
-    let mut w = Writer { file, mesh_base, out: String::new(), bounds: Bounds::EMPTY };
+/// are written relative to `mesh_base` (the folder the RON file will live in). A mesh assignment 8's curve editor
+/// made becomes `Splines(path: spline file, tessellation: ...)`: the course's tessellation when the mesh file is
+/// missing, the exact surfaces (`tessellation: None`) with `exact_curves`.
+pub fn to_ron(scene: &SceneTxt, file: &Path, mesh_base: &Path, exact_curves: bool) -> Result<Converted> {
+    let mut w = Writer { file, mesh_base, exact_curves, out: String::new(), bounds: Bounds::EMPTY };
     if let Some(root) = &scene.root {
         w.object(root, &Affine3A::IDENTITY, 8)?;
     }

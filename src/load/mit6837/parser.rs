@@ -1,12 +1,14 @@
-//! Recursive-descent parser of 6.837 scene files (Fall 2004, assignments 1-5; the course's `scene_parser.C`
+//! Recursive-descent parser of 6.837 scene files (Fall 2004, assignments 1-5 and 8; the course's `scene_parser.C`
 //! grammar): top-level `OrthographicCamera`, `PerspectiveCamera`, `Background`, `Lights`, `Materials` and one
 //! `Group`; objects `Group`, `Transform`, `Sphere`, `Plane`, `Triangle`, `TriangleMesh`. It checks what the course
 //! only asserted: braces, declared counts (`numObjects`, `numMaterials`, `numLights`), keywords, numbers, material
-//! indices and that mesh files exist, each failure a one-line error `file:line:col: message`.
+//! indices and that mesh files exist (or, for assignment 8's meshes, the spline file they are made from), each
+//! failure a one-line error `file:line:col: message`.
 
 use super::ast::{CameraTxt, LightTxt, MaterialTxt, ObjectTxt, OpTxt, PhongTxt, SceneTxt};
 use super::lexer::{Token, tokenize};
 use crate::error::{PrismError, Result, SourcePos};
+use crate::limits::MAX_NESTING_DEPTH;
 use glam::Vec3;
 use std::path::{Path, PathBuf};
 
@@ -18,6 +20,8 @@ pub(super) struct Parser<'a> {
     /// The material of the objects read from now on (`MaterialIndex`).
     current_material: Option<usize>,
     num_materials: Option<usize>,
+    /// `Group`/`Transform` blocks open around the current token (at most [`MAX_NESTING_DEPTH`]).
+    depth: usize,
 }
 
 /// Parse 6.837 scene text. `file` names it in errors; mesh paths resolve against `base_dir`.
@@ -29,6 +33,7 @@ pub fn parse_txt(text: &str, file: &Path, base_dir: &Path) -> Result<SceneTxt> {
         base_dir: base_dir.to_path_buf(),
         current_material: None,
         num_materials: None,
+        depth: 0,
     };
     p.scene()
 }
@@ -396,8 +401,19 @@ impl Parser<'_> {
     fn object(&mut self, t: &Token) -> Result<ObjectTxt> {
         let line = t.line;
         Ok(match t.text.as_str() {
-            "Group" => self.group(line)?,
-            "Transform" => self.transform(line)?,
+            "Group" | "Transform" => {
+                if self.depth >= MAX_NESTING_DEPTH {
+                    return Err(self.error_at(
+                        t.line,
+                        t.col,
+                        format!("Group and Transform blocks nested deeper than {MAX_NESTING_DEPTH} levels"),
+                    ));
+                }
+                self.depth += 1;
+                let o = if t.text == "Group" { self.group(line) } else { self.transform(line) };
+                self.depth -= 1;
+                o?
+            }
             "Sphere" => {
                 self.expect("{", "after Sphere")?;
                 let center = self.keyed_vec3("center", "Sphere")?;
@@ -442,15 +458,17 @@ impl Parser<'_> {
                 if !name.text.to_ascii_lowercase().ends_with(".obj") {
                     return Err(self.error_at(name.line, name.col, format!("obj_file `{}` is not .obj", name.text)));
                 }
-                if !path.is_file() {
-                    return Err(self.error_at(
-                        name.line,
-                        name.col,
-                        format!("obj_file `{}` not found ({})", name.text, path.display()),
-                    ));
+                // A mesh assignment 8's curve editor made: its spline file, if it is there.
+                let splines = super::course_meshes::course_mesh(&name.text)
+                    .map(|(spline, tess)| (self.base_dir.join(spline), tess))
+                    .filter(|(spline, _)| spline.is_file());
+                if splines.is_none()
+                    && let Err(e) = crate::io::open_regular(&path, "obj_file")
+                {
+                    return Err(self.error_at(name.line, name.col, e.to_string()));
                 }
                 self.expect("}", "to close TriangleMesh")?;
-                ObjectTxt::Mesh { line, path, material: self.material_for(t)? }
+                ObjectTxt::Mesh { line, path, material: self.material_for(t)?, splines }
             }
             other => {
                 return Err(self.error_at(

@@ -1,0 +1,4 @@
+//! Fuzz target `hdr_image`: arbitrary bytes into `prism::fuzz::hdr_image` (see `src/fuzz.rs`).
+#![no_main]
+
+libfuzzer_sys::fuzz_target!(|data: &[u8]| prism::fuzz::hdr_image(data));

@@ -1,0 +1,466 @@
+//! glTF import: every sample file renders; a Cornell box written here as glTF renders like
+//! `scenes/cornell_box.ron` within noise (and stores its shared cube once); supplied tangents agree with
+//! generated MikkTSpace ones; photometric lights convert at 683 lm/W; alpha cut-outs let camera and shadow rays
+//! through exactly as much as alpha says; malformed files are one-line errors.
+
+use crate::common::{app_from_file, data, render_file, render_ron, scratch};
+use base64::Engine as _;
+use prism::compare::compare;
+use prism::settings::Overrides;
+use std::fmt::Write as _;
+use std::path::PathBuf;
+
+/// A glTF document assembled in memory: one base64 buffer, views and accessors appended as data is added.
+#[derive(Default)]
+struct Doc {
+    buf: Vec<u8>,
+    views: Vec<String>,
+    accessors: Vec<String>,
+    meshes: Vec<String>,
+    materials: Vec<String>,
+    nodes: Vec<String>,
+    cameras: Vec<String>,
+    lights: Vec<String>,
+    extra: String,
+}
+
+impl Doc {
+    fn view(&mut self, bytes: &[u8]) -> usize {
+        while !self.buf.len().is_multiple_of(4) {
+            self.buf.push(0);
+        }
+        self.views.push(format!(
+            "{{\"buffer\": 0, \"byteOffset\": {}, \"byteLength\": {}}}",
+            self.buf.len(),
+            bytes.len()
+        ));
+        self.buf.extend_from_slice(bytes);
+        self.views.len() - 1
+    }
+
+    fn floats(&mut self, v: &[f32], ty: &str) -> usize {
+        let bytes: Vec<u8> = v.iter().flat_map(|x| x.to_le_bytes()).collect();
+        let n = match ty {
+            "VEC2" => 2,
+            "VEC3" => 3,
+            "VEC4" => 4,
+            _ => 1,
+        };
+        let view = self.view(&bytes);
+        // POSITION accessors must state their bounds.
+        let bounds = if n == 3 {
+            let (mut lo, mut hi) = ([f32::MAX; 3], [f32::MIN; 3]);
+            for c in v.chunks_exact(3) {
+                for k in 0..3 {
+                    lo[k] = lo[k].min(c[k]);
+                    hi[k] = hi[k].max(c[k]);
+                }
+            }
+            let fmt = |a: [f32; 3]| a.map(|x| if x.is_finite() { x } else { 0.0 });
+            format!(", \"min\": {:?}, \"max\": {:?}", fmt(lo), fmt(hi))
+        } else {
+            String::new()
+        };
+        self.accessors.push(format!(
+            "{{\"bufferView\": {view}, \"componentType\": 5126, \"count\": {}, \"type\": \"{ty}\"{bounds}}}",
+            v.len() / n
+        ));
+        self.accessors.len() - 1
+    }
+
+    fn indices(&mut self, v: &[u32]) -> usize {
+        let bytes: Vec<u8> = v.iter().flat_map(|x| x.to_le_bytes()).collect();
+        let view = self.view(&bytes);
+        self.accessors.push(format!(
+            "{{\"bufferView\": {view}, \"componentType\": 5125, \"count\": {}, \"type\": \"SCALAR\"}}",
+            v.len()
+        ));
+        self.accessors.len() - 1
+    }
+
+    /// A mesh of one triangle primitive; returns its index.
+    fn mesh(&mut self, positions: &[f32], indices: &[u32], material: usize) -> usize {
+        let p = self.floats(positions, "VEC3");
+        let i = self.indices(indices);
+        self.meshes.push(format!("{{\"primitives\": [{{\"attributes\": {{\"POSITION\": {p}}}, \"indices\": {i}, \"material\": {material}}}]}}"));
+        self.meshes.len() - 1
+    }
+
+    fn json(&self) -> String {
+        let uri = base64::engine::general_purpose::STANDARD.encode(&self.buf);
+        let list = |v: &[String]| v.join(",\n");
+        let mut s = format!(
+            "{{\"asset\": {{\"version\": \"2.0\"}}, \"scene\": 0, \"scenes\": [{{\"nodes\": [{}]}}],\n\"nodes\": [{}],\n\"meshes\": [{}],\n\"materials\": [{}],\n\"accessors\": [{}],\n\"bufferViews\": [{}],\n\"buffers\": [{{\"byteLength\": {}, \"uri\": \"data:application/octet-stream;base64,{uri}\"}}]",
+            (0..self.nodes.len()).map(|i| i.to_string()).collect::<Vec<_>>().join(", "),
+            list(&self.nodes),
+            list(&self.meshes),
+            list(&self.materials),
+            list(&self.accessors),
+            list(&self.views),
+            self.buf.len()
+        );
+        if !self.cameras.is_empty() {
+            let _ = write!(s, ",\n\"cameras\": [{}]", list(&self.cameras));
+        }
+        if !self.lights.is_empty() {
+            let _ = write!(
+                s,
+                ",\n\"extensionsUsed\": [\"KHR_lights_punctual\", \"KHR_materials_specular\", \"KHR_materials_emissive_strength\"], \"extensions\": {{\"KHR_lights_punctual\": {{\"lights\": [{}]}}}}",
+                list(&self.lights)
+            );
+        } else {
+            s.push_str(",\n\"extensionsUsed\": [\"KHR_materials_specular\", \"KHR_materials_emissive_strength\"]");
+        }
+        s.push_str(&self.extra);
+        s.push('}');
+        s
+    }
+
+    fn write(&self, name: &str) -> PathBuf {
+        let p = scratch("gltf").join(name);
+        std::fs::write(&p, self.json()).unwrap();
+        p
+    }
+}
+
+const QUAD: [f32; 12] = [-1.0, -1.0, 0.0, 1.0, -1.0, 0.0, 1.0, 1.0, 0.0, -1.0, 1.0, 0.0];
+const QUAD_IDX: [u32; 6] = [0, 1, 2, 0, 2, 3];
+
+/// A diffuse glTF material: KHR_materials_specular with factor 0 removes the dielectric coat (pure Lambert).
+fn diffuse(c: [f32; 3], double_sided: bool, emission: Option<[f32; 3]>) -> String {
+    let mut s = format!(
+        "{{\"pbrMetallicRoughness\": {{\"baseColorFactor\": [{}, {}, {}, 1], \"metallicFactor\": 0, \"roughnessFactor\": 1}}, \"doubleSided\": {double_sided}, \"extensions\": {{\"KHR_materials_specular\": {{\"specularFactor\": 0}}",
+        c[0], c[1], c[2]
+    );
+    if let Some(e) = emission {
+        let m = e.iter().cloned().fold(0.0, f32::max);
+        let _ = write!(
+            s,
+            ", \"KHR_materials_emissive_strength\": {{\"emissiveStrength\": {m}}}}}, \"emissiveFactor\": [{}, {}, {}]}}",
+            e[0] / m,
+            e[1] / m,
+            e[2] / m
+        );
+    } else {
+        s.push_str("}}");
+    }
+    s
+}
+
+fn node(mesh: usize, t: [f32; 3], axis_deg: Option<([f32; 3], f32)>, s: [f32; 3]) -> String {
+    let r = match axis_deg {
+        None => [0.0, 0.0, 0.0, 1.0],
+        Some((a, d)) => {
+            let h = (d.to_radians() * 0.5).sin();
+            [a[0] * h, a[1] * h, a[2] * h, (d.to_radians() * 0.5).cos()]
+        }
+    };
+    format!("{{\"mesh\": {mesh}, \"translation\": {t:?}, \"rotation\": {r:?}, \"scale\": {s:?}}}")
+}
+
+/// `scenes/cornell_box.ron` written as glTF: quads and one cube mesh (used by both boxes), Lambert materials
+/// through KHR_materials_specular 0, the light as an emissive one-sided quad, the camera as a node.
+fn cornell_gltf() -> PathBuf {
+    let mut d = Doc::default();
+    let white = [0.885809, 0.698859, 0.666422];
+    d.materials.push(diffuse(white, false, None));
+    d.materials.push(diffuse([0.105421, 0.37798, 0.076425], true, None));
+    d.materials.push(diffuse([0.570068, 0.0430135, 0.0443706], true, None));
+    d.materials.push(diffuse(white, false, Some([18.387, 13.9873, 6.75357])));
+    let quad_w = d.mesh(&QUAD, &QUAD_IDX, 0);
+    let quad_g = d.mesh(&QUAD, &QUAD_IDX, 1);
+    let quad_r = d.mesh(&QUAD, &QUAD_IDX, 2);
+    let quad_l = d.mesh(&QUAD, &QUAD_IDX, 3);
+    let cube = prism::mesh::MeshData::unit_cube();
+    let pos: Vec<f32> = cube.positions.iter().flat_map(|p| p.to_array()).collect();
+    let idx: Vec<u32> = cube.indices.iter().flatten().copied().collect();
+    let cube = d.mesh(&pos, &idx, 0);
+    let x = [1.0, 0.0, 0.0];
+    let y = [0.0, 1.0, 0.0];
+    d.nodes.push(node(quad_l, [0.0, 0.99, 0.01], Some((x, 90.0)), [0.23, 0.19, 0.19]));
+    d.nodes.push(node(quad_w, [0.0, -1.0, 0.0], Some((x, -90.0)), [1.0; 3]));
+    d.nodes.push(node(quad_w, [0.0, 1.0, 0.0], Some((x, 90.0)), [1.0; 3]));
+    d.nodes.push(node(quad_w, [0.0, 0.0, -1.0], None, [1.0; 3]));
+    d.nodes.push(node(quad_g, [1.0, 0.0, 0.0], Some((y, -90.0)), [1.0; 3]));
+    d.nodes.push(node(quad_r, [-1.0, 0.0, 0.0], Some((y, 90.0)), [1.0; 3]));
+    d.nodes.push(node(cube, [0.335, -0.7, 0.38], Some((y, -17.0)), [0.3; 3]));
+    d.nodes.push(node(cube, [-0.33, -0.4, -0.28], Some((y, 18.25)), [0.3, 0.61, 0.3]));
+    d.cameras.push(format!(
+        "{{\"type\": \"perspective\", \"perspective\": {{\"yfov\": {}, \"aspectRatio\": 1, \"znear\": 0.01}}}}",
+        39.3077f32.to_radians()
+    ));
+    d.nodes.push("{\"camera\": 0, \"translation\": [0, 0, 3.9]}".into());
+    d.write("cornell.gltf")
+}
+
+#[test]
+fn a_gltf_cornell_box_renders_like_the_ron_cornell_box_within_noise_and_stores_its_cube_once() {
+    let over = |seed| Overrides {
+        size: Some((64, 64)),
+        spp: Some(64),
+        seed: Some(seed),
+        integrator: Some("envlight(max_depth: 8)".into()),
+        ..Default::default()
+    };
+    let ron = crate::common::scene_path("cornell_box.ron");
+    let r0 = render_file(&ron, over(0));
+    let r1 = render_file(&ron, over(1));
+    let path = cornell_gltf();
+    let mut app = app_from_file(&path, over(0));
+    app.run().unwrap();
+    let g = prism::render::film_image(&app.resources).unwrap();
+    // Four quad meshes and one cube mesh, though the cube is used twice.
+    assert_eq!(app.resources.meshes.len(), 5, "a mesh used by two nodes is stored once");
+    let noise = compare(&r1, &r0).unwrap();
+    let m = compare(&g, &r0).unwrap();
+    let mean = |img: &prism::io::Image| {
+        img.pixels.iter().map(|p| (p.x + p.y + p.z) as f64).sum::<f64>() / img.pixels.len() as f64
+    };
+    let (mg, mr) = (mean(&g), mean(&r0));
+    assert!((mg - mr).abs() / mr < 0.01, "image means {mg} vs {mr}");
+    assert!(
+        m.rmse <= 1.2 * noise.rmse + 1e-4,
+        "glTF vs RON RMSE {} exceeds the noise between two RON seeds {}",
+        m.rmse,
+        noise.rmse
+    );
+}
+
+#[test]
+fn every_sample_gltf_file_renders_and_the_gltf_and_glb_box_agree() {
+    let files = [
+        "BoxTextured/BoxTextured.gltf",
+        "BoxTextured-glb/BoxTextured.glb",
+        "Box-embedded/Box.gltf",
+        "NormalTangentTest.glb",
+        "NormalTangentMirrorTest.glb",
+    ];
+    let mut means = Vec::new();
+    for f in files {
+        let img = render_file(
+            &data(&format!("gltf/{f}")),
+            Overrides { size: Some((32, 32)), spp: Some(2), ..Default::default() },
+        );
+        assert!(img.pixels.iter().all(|p| p.is_finite()), "{f}");
+        let m = img.pixels.iter().map(|p| p.x + p.y + p.z).sum::<f32>() / img.pixels.len() as f32;
+        assert!(m > 0.1, "{f}: image mean {m}");
+        means.push(m);
+    }
+    assert!((means[0] - means[1]).abs() / means[0] < 0.02, "BoxTextured .gltf and .glb: {} vs {}", means[0], means[1]);
+}
+
+#[test]
+fn supplied_tangents_agree_with_generated_mikktspace_tangents() {
+    let mut app = app_from_file(
+        &data("gltf/NormalTangentMirrorTest.glb"),
+        Overrides { size: Some((4, 4)), spp: Some(1), ..Default::default() },
+    );
+    app.run().unwrap();
+    let meshes = &app.resources.meshes;
+    let (mut agree, mut total) = (0, 0);
+    for h in 0..meshes.len() as u32 {
+        let m = meshes.get(prism::components::MeshHandle(h));
+        if m.tangents.is_empty() {
+            continue;
+        }
+        let supplied = prism::mesh_tangents::corner_tangents(m);
+        let generated = prism::mesh_tangents::mikktspace_tangents(m);
+        for (s, g) in supplied.iter().flatten().zip(generated.iter().flatten()) {
+            total += 1;
+            let (a, b) = (s.truncate().normalize_or_zero(), g.truncate().normalize_or_zero());
+            if a.dot(b) > 0.95 && s.w.signum() == g.w.signum() {
+                agree += 1;
+            }
+        }
+    }
+    assert!(total > 1000, "the file supplies tangents: {total} corners");
+    assert!(agree as f64 > 0.95 * total as f64, "only {agree} of {total} corners agree in direction and sign");
+}
+
+#[test]
+fn punctual_lights_convert_candela_and_lux_at_683_lumens_per_watt() {
+    // A white Lambert floor, the camera looking straight down at it.
+    let build = |light: &str, t: [f32; 3], r: Option<([f32; 3], f32)>| {
+        let mut d = Doc::default();
+        d.materials.push(diffuse([1.0; 3], true, None));
+        let q = d.mesh(&QUAD, &QUAD_IDX, 0);
+        d.nodes.push(node(q, [0.0; 3], Some(([1.0, 0.0, 0.0], -90.0)), [10.0; 3]));
+        d.cameras.push(
+            "{\"type\": \"perspective\", \"perspective\": {\"yfov\": 0.01, \"aspectRatio\": 1, \"znear\": 0.01}}"
+                .into(),
+        );
+        d.nodes.push(format!(
+            "{{\"camera\": 0, \"translation\": [0, 3, 0], \"rotation\": {:?}}}",
+            [-(45f32.to_radians()).sin(), 0.0, 0.0, 45f32.to_radians().cos()]
+        ));
+        d.lights.push(light.to_string());
+        let mut n = node(0, t, r, [1.0; 3]);
+        n = n.replace("\"mesh\": 0, ", "\"extensions\": {\"KHR_lights_punctual\": {\"light\": 0}}, ");
+        d.nodes.push(n);
+        d.write("light.gltf")
+    };
+    let centre = |p: PathBuf| {
+        let img = render_file(
+            &p,
+            Overrides {
+                size: Some((4, 4)),
+                spp: Some(4),
+                integrator: Some("envlight(max_depth: 2)".into()),
+                ..Default::default()
+            },
+        );
+        img.pixels.iter().map(|p| p.x as f64).sum::<f64>() / img.pixels.len() as f64
+    };
+    let pi = std::f64::consts::PI;
+    // 683 cd at 1 m: 1 W/m^2, radiance 1/pi from albedo 1.
+    let point = centre(build("{\"type\": \"point\", \"intensity\": 683}", [0.0, 1.0, 0.0], None));
+    assert!((point - 1.0 / pi).abs() < 0.01 / pi, "point: {point}");
+    // 683 lux straight down: 1 W/m^2.
+    let sun =
+        centre(build("{\"type\": \"directional\", \"intensity\": 683}", [0.0; 3], Some(([1.0, 0.0, 0.0], -90.0))));
+    assert!((sun - 1.0 / pi).abs() < 0.01 / pi, "directional: {sun}");
+    // A spot pointing down: full intensity inside its inner cone.
+    let spot = centre(build(
+        "{\"type\": \"spot\", \"intensity\": 683, \"spot\": {\"innerConeAngle\": 0.3, \"outerConeAngle\": 0.6}}",
+        [0.0, 1.0, 0.0],
+        Some(([1.0, 0.0, 0.0], -90.0)),
+    ));
+    assert!((spot - 1.0 / pi).abs() < 0.01 / pi, "spot: {spot}");
+}
+
+#[test]
+fn alpha_cutouts_let_shadow_rays_through_as_much_as_alpha_says() {
+    // A floor lit by a point light 2 above it, a small occluder just under the light (outside the camera's view).
+    let scene = |alpha: Option<&str>| {
+        let occluder = match alpha {
+            None => String::new(),
+            Some(a) => format!(
+                "(shape: Quad(), material: \"w\", transform: [Translate((0, 1.9, 0)), Rotate(axis: (1, 0, 0), degrees: 90), UniformScale(0.2)] {a}),"
+            ),
+        };
+        format!(
+            "(camera: (eye: (0, 1, 3), target: (0, 0, 0), fov: 10, size: (8, 8)), render: (integrator: envlight(max_depth: 2), sampler: independent),
+              materials: {{\"w\": Lambert(albedo: 1)}},
+              entities: [(shape: Quad(), material: \"w\", transform: [Rotate(axis: (1, 0, 0), degrees: -90), UniformScale(4)]),
+                         {occluder}
+                         (light: Point(intensity: (4, 4, 4), position: (0, 2, 0)))])"
+        )
+    };
+    let mean = |alpha: Option<&str>| {
+        let img = render_ron(&scene(alpha), Overrides { spp: Some(256), ..Default::default() });
+        img.pixels.iter().map(|p| p.x as f64).sum::<f64>() / img.pixels.len() as f64
+    };
+    let lit = mean(None);
+    let open = mean(Some(", alpha: (factor: 0)"));
+    assert!((open - lit).abs() < 0.02 * lit, "an alpha-0 occluder casts no shadow: {open} vs {lit}");
+    assert!(mean(Some("")) < 0.01 * lit, "an opaque occluder casts a full shadow");
+    let mask_hole = mean(Some(", alpha: (factor: 0.3, mode: Mask(cutoff: 0.5))"));
+    assert!((mask_hole - lit).abs() < 0.02 * lit, "alpha below the cutoff is a hole: {mask_hole}");
+    assert!(
+        mean(Some(", alpha: (factor: 0.8, mode: Mask(cutoff: 0.5))")) < 0.01 * lit,
+        "alpha above the cutoff is opaque"
+    );
+    let blend = mean(Some(", alpha: (factor: 0.3, mode: Blend)"));
+    assert!(
+        (blend - 0.7 * lit).abs() < 0.03 * lit,
+        "stochastic transparency passes 1 - alpha of the light: {blend} vs {}",
+        0.7 * lit
+    );
+}
+
+/// A valid one-triangle document as JSON, with the parts the malformed cases replace.
+fn triangle(positions: &[f32], indices: &[u32]) -> String {
+    let mut d = Doc::default();
+    d.materials.push(diffuse([0.5; 3], true, None));
+    d.mesh(positions, indices, 0);
+    d.nodes.push("{\"mesh\": 0}".into());
+    d.json()
+}
+
+fn gltf_error(name: &str, bytes: &[u8], needle: &str) {
+    let p = scratch("gltf-bad").join(name);
+    std::fs::write(&p, bytes).unwrap();
+    let mut app = app_from_file(&p, Overrides { size: Some((4, 4)), spp: Some(1), ..Default::default() });
+    let e = app.run().expect_err("malformed glTF must fail").to_string();
+    assert!(!e.contains('\n'), "one line: {e}");
+    assert!(e.contains(name), "names the file: {e}");
+    assert!(e.contains(needle), "{needle:?}: {e}");
+}
+
+#[test]
+fn malformed_gltf_files_are_one_line_errors() {
+    let tri = [0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0];
+    let ok = triangle(&tri, &[0, 1, 2]);
+    let mut app = app_from_file(
+        &{
+            let p = scratch("gltf-bad").join("ok.gltf");
+            std::fs::write(&p, &ok).unwrap();
+            p
+        },
+        Overrides { size: Some((4, 4)), spp: Some(1), ..Default::default() },
+    );
+    app.run().expect("the unmodified document loads");
+    let glb = std::fs::read(data("gltf/BoxTextured-glb/BoxTextured.glb")).unwrap();
+    gltf_error("truncated.glb", &glb[..glb.len() / 2], "GLB");
+    gltf_error("syntax.gltf", &ok.as_bytes()[..ok.len() - 30], "syntax.gltf:");
+    gltf_error(
+        "range.gltf",
+        ok.replacen("\"count\": 3, \"type\": \"VEC3\"", "\"count\": 300, \"type\": \"VEC3\"", 1).as_bytes(),
+        "overrun",
+    );
+    gltf_error(
+        "type.gltf",
+        ok.replacen(
+            "\"componentType\": 5126, \"count\": 3, \"type\": \"VEC3\"",
+            "\"componentType\": 5123, \"count\": 3, \"type\": \"VEC3\"",
+            1,
+        )
+        .as_bytes(),
+        "not allowed",
+    );
+    gltf_error(
+        "buffer.gltf",
+        ok.replacen("data:application/octet-stream;base64,", "missing.bin#", 1).as_bytes(),
+        "buffer 0",
+    );
+    gltf_error("overflow.gltf", triangle(&tri, &[0, 1, 7]).as_bytes(), "index 2 is 7");
+    gltf_error("nan.gltf", triangle(&[0.0, f32::NAN, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0], &[0, 1, 2]).as_bytes(), "NaN");
+    gltf_error(
+        "required.gltf",
+        ok.replacen("\"scene\": 0,", "\"extensionsRequired\": [\"KHR_draco_mesh_compression\"], \"scene\": 0,", 1)
+            .as_bytes(),
+        "KHR_draco_mesh_compression",
+    );
+    gltf_error("reference.gltf", ok.replacen("{\"mesh\": 0}", "{\"mesh\": 5}", 1).as_bytes(), "invalid glTF");
+    let with_image = ok
+        .replacen("\"metallicFactor\": 0,", "\"metallicFactor\": 0, \"baseColorTexture\": {\"index\": 0},", 1)
+        .replacen(
+            "\"scene\": 0,",
+            "\"scene\": 0, \"textures\": [{\"source\": 0}], \"images\": [{\"uri\": \"nope.png\"}],",
+            1,
+        );
+    gltf_error("image.gltf", with_image.as_bytes(), "image 0 (nope.png)");
+}
+
+#[test]
+fn the_camera_option_picks_a_gltf_camera_by_name() {
+    let mut d = Doc::default();
+    d.materials.push(diffuse([0.5; 3], true, None));
+    let q = d.mesh(&QUAD, &QUAD_IDX, 0);
+    d.nodes.push(node(q, [0.0; 3], None, [1.0; 3]));
+    d.cameras.push("{\"name\": \"near\", \"type\": \"perspective\", \"perspective\": {\"yfov\": 0.5, \"aspectRatio\": 2, \"znear\": 0.01}}".into());
+    d.cameras.push("{\"name\": \"ortho\", \"type\": \"orthographic\", \"orthographic\": {\"xmag\": 2, \"ymag\": 1, \"znear\": 0.01, \"zfar\": 10}}".into());
+    d.nodes.push("{\"camera\": 0, \"translation\": [0, 0, 3]}".into());
+    d.nodes.push("{\"name\": \"side\", \"camera\": 1, \"translation\": [0, 0, 5]}".into());
+    let path = d.write("cameras.gltf");
+    let run = |camera: Option<&str>| {
+        let mut app =
+            app_from_file(&path, Overrides { spp: Some(1), camera: camera.map(str::to_string), ..Default::default() });
+        app.run().map(|_| (app.resources.settings.width, app.resources.settings.height))
+    };
+    assert_eq!(run(None).unwrap(), (960, 480), "the first camera, aspect ratio 2");
+    assert_eq!(run(Some("ortho")).unwrap(), (960, 480), "by camera name: xmag / ymag = 2");
+    assert_eq!(run(Some("side")).unwrap(), (960, 480), "by node name");
+    let e = run(Some("nope")).unwrap_err().to_string();
+    assert!(e.contains("no camera named 'nope'") && e.contains("near") && e.contains("ortho"), "{e}");
+}

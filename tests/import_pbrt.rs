@@ -1,0 +1,372 @@
+//! pbrt import: the caustic-glass files convert with the settings they ask for and render with photon mapping;
+//! pbrt's conventions (left-handed screen, fov of the shorter axis, bounce counts, blackbody spectra, roughness
+//! remapping, spot fall-off per version, orientation of emitters) come out as pbrt defines them; malformed
+//! files are one-line `file:line:col` errors.
+
+use crate::common::{app_from_file, data, render_file, scratch, spp};
+use prism::lights::{SpotLight, SpotProfile};
+use prism::load::desc::{LightDesc, MaterialDesc, ScalarDesc, SceneDesc};
+use prism::load::parse_scene;
+use prism::load::pbrt::{convert_file, roughness_to_alpha_v3, spectrum};
+use prism::settings::Overrides;
+use std::path::{Path, PathBuf};
+
+fn write(name: &str, text: &str) -> PathBuf {
+    let dir = scratch("pbrt");
+    let p = dir.join(name);
+    std::fs::write(&p, text).unwrap();
+    p
+}
+
+/// Convert and parse back; returns the RON text (the descriptor borrows it).
+fn ron_of(path: &Path) -> String {
+    let c = convert_file(path, path.parent().unwrap()).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    parse_scene(&c.ron, path).unwrap_or_else(|e| panic!("converted RON does not parse: {e}\n{}", c.ron));
+    c.ron
+}
+
+fn desc(ron: &str) -> SceneDesc<'_> {
+    parse_scene(ron, Path::new("x.ron")).unwrap()
+}
+
+fn integrator(d: &SceneDesc) -> String {
+    d.render.integrator.map(|r| r.get_ron().to_string()).unwrap_or_default()
+}
+
+#[test]
+fn the_caustic_glass_files_convert_with_the_integrator_iterations_and_crop_they_ask_for() {
+    let cases = [
+        ("f16-9a.pbrt", "ppm(radius: 0.025, max_depth: 6)", 10, (700, 1000)),
+        ("f16-9b.pbrt", "ppm(radius: 0.075, max_depth: 6)", 100, (700, 1000)),
+        ("f16-9c.pbrt", "ppm(radius: 0.075, max_depth: 6)", 10000, (700, 1000)),
+        ("f16-11a.pbrt", "ppm(radius: 0.075, photons: 100000, max_depth: 6)", 500, (560, 600)),
+        ("f16-11b.pbrt", "ppm(radius: 0.075, photons: 5000000, max_depth: 6)", 10, (560, 600)),
+        // bdpt with maxdepth 20 (bounces) is path tracing with 21 segments.
+        ("glass.pbrt", "envlight(max_depth: 21)", 8192, (1050, 1500)),
+    ];
+    for (file, integ, n, size) in cases {
+        let ron = ron_of(&data(&format!("caustic_glass/{file}")));
+        let d = desc(&ron);
+        assert_eq!(integrator(&d), integ, "{file}");
+        assert_eq!(d.render.spp, Some(n), "{file}: sppm iterations / pixel samples");
+        let cam = d.camera.as_ref().unwrap();
+        assert_eq!(cam.size, size, "{file}: the crop window's pixels");
+        assert!(cam.mirror, "{file}: pbrt's LookAt screen is mirrored relative to Prism's");
+        // Film scale 1.5 is an exposure of log2(1.5) stops.
+        assert!((d.render.exposure.unwrap() - 1.5f32.log2()).abs() < 1e-6);
+        if file.starts_with("f16-11") {
+            // cropwindow [.3 .7 .4 .7] of 1400 x 2000, rounded to pbrt's pixel bounds.
+            assert_eq!(cam.crop, Some([0.3, 0.4, 0.7, 0.7]));
+        }
+        // fov 30 of the shorter (horizontal) axis of a portrait image.
+        let expect = 2.0 * ((15f64).to_radians().tan() * size.1 as f64 / size.0 as f64).atan().to_degrees();
+        let full = if file.starts_with("f16-11") {
+            2.0 * ((15f64).to_radians().tan() * 2000.0 / 1400.0).atan().to_degrees()
+        } else {
+            expect
+        };
+        assert!((cam.fov as f64 - full).abs() < 1e-3, "{file}: fov {} vs {full}", cam.fov);
+    }
+}
+
+#[test]
+fn pbrt_v3_blackbody_matches_pbrts_own_conversion_in_glass_pbrt() {
+    // glass.pbrt's `rgb I [139.81 118.64 105.39]` is the f16 files' `blackbody I [5500 125]` as pbrt-v3 wrote it.
+    let rgb = spectrum::blackbody_v3(5500.0, 125.0);
+    for (a, b) in rgb.iter().zip([139.8113403320, 118.6366500854, 105.3887557983]) {
+        assert!((a - b).abs() / b < 5e-3, "{rgb:?}");
+    }
+    // pbrt-v4 normalises a blackbody light to luminance 1.
+    let v4 = spectrum::blackbody_v4(3000.0);
+    assert!((spectrum::luminance(v4) - 1.0).abs() < 1e-3, "{v4:?}");
+    assert!(v4[0] > v4[2], "3000 K is reddish: {v4:?}");
+}
+
+#[test]
+fn the_caustic_glass_scene_renders_with_photon_mapping_and_a_caustic_under_the_glass() {
+    let file = data("caustic_glass/f16-9b.pbrt");
+    let over = Overrides { size: Some((70, 100)), spp: Some(4), ..Default::default() };
+    let mut app = app_from_file(&file, over);
+    app.run().unwrap();
+    assert_eq!(app.resources.settings.integrator.name, "ppm");
+    let img = prism::render::film_image(&app.resources).unwrap();
+    assert!(img.pixels.iter().all(|p| p.is_finite()));
+    // The glass's shadow on the floor (below the glass in the image) holds the caustic: light focused through
+    // the glass makes parts of the shadow brighter than the open, spot-lit floor beside it.
+    let px = |x: u32, y: u32| img.pixels[(y * img.width + x) as usize];
+    let lum = |p: glam::Vec3| 0.2126 * p.x + 0.7152 * p.y + 0.0722 * p.z;
+    let shadow_max =
+        (40..90).flat_map(|y| (5..40).map(move |x| (x, y))).map(|(x, y)| lum(px(x, y))).fold(0.0, f32::max);
+    let lit_floor = (40..60).map(|y| lum(px(65, y))).sum::<f32>() / 20.0;
+    assert!(shadow_max > lit_floor, "no caustic brighter than the directly lit floor: {shadow_max} vs {lit_floor}");
+}
+
+const HEAD_V4: &str = "LookAt 0 0 -5  0 0 0  0 1 0\nCamera \"perspective\" \"float fov\" 40\n\
+    Film \"rgb\" \"integer xresolution\" 16 \"integer yresolution\" 16\nColorSpace \"srgb\"\n";
+
+#[test]
+fn a_lookat_camera_sees_up_cross_view_on_the_right_as_pbrt_does() {
+    // Looking along +z with +y up, pbrt's image-right is up x view = +x: an emitter at +x shows on the right.
+    let text = format!(
+        "{HEAD_V4}Integrator \"path\" \"integer maxdepth\" 0\nWorldBegin\nAttributeBegin\n\
+         AreaLightSource \"diffuse\" \"rgb L\" [1 1 1] \"bool twosided\" true\n\
+         Shape \"trianglemesh\" \"point3 P\" [0.5 -0.5 0  1.5 -0.5 0  1.5 0.5 0  0.5 0.5 0] \"integer indices\" [0 1 2 0 2 3]\n\
+         AttributeEnd\n"
+    );
+    let img = render_file(&write("handed.pbrt", &text), spp(1));
+    let half = |right: bool| {
+        (0..16u32)
+            .flat_map(|y| (0..8u32).map(move |x| (x, y)))
+            .map(|(x, y)| img.pixels[(y * 16 + if right { x + 8 } else { x }) as usize].x)
+            .sum::<f32>()
+    };
+    assert!(half(true) > 10.0 && half(false) == 0.0, "right {} left {}", half(true), half(false));
+}
+
+#[test]
+fn transforms_objects_instances_and_includes_place_shapes_where_pbrt_does() {
+    let dir = scratch("pbrt-include");
+    std::fs::write(
+        dir.join("part.pbrt"),
+        "AttributeBegin\nTranslate 0 0 3\nShape \"sphere\" \"float radius\" 0.25\nAttributeEnd\n",
+    )
+    .unwrap();
+    let text = format!(
+        "{HEAD_V4}WorldBegin\nObjectBegin \"ball\"\nTranslate 1 0 0\nShape \"sphere\" \"float radius\" 0.5\nObjectEnd\n\
+         AttributeBegin\nTranslate 0 2 0\nObjectInstance \"ball\"\nAttributeEnd\n\
+         AttributeBegin\nRotate 90 0 0 1\nObjectInstance \"ball\"\nAttributeEnd\n\
+         AttributeBegin\nConcatTransform [2 0 0 0  0 2 0 0  0 0 2 0  0 0 -1 1]\nShape \"sphere\" \"float radius\" 1\nAttributeEnd\n\
+         Include \"part.pbrt\"\n"
+    );
+    let path = dir.join("scene.pbrt");
+    std::fs::write(&path, text).unwrap();
+    let mut app = app_from_file(&path, spp(1));
+    app.run().unwrap();
+    let prims = &app.resources.scene.as_ref().unwrap().prims;
+    let mut got: Vec<(glam::Vec3, f32)> =
+        prims.spheres.iter().map(|s| (glam::Vec3::from(s.center), s.radius)).collect();
+    got.sort_by(|a, b| a.0.to_array().partial_cmp(&b.0.to_array()).unwrap());
+    let want = [
+        (glam::Vec3::new(0.0, 0.0, -1.0), 2.0),
+        (glam::Vec3::new(0.0, 0.0, 3.0), 0.25),
+        (glam::Vec3::new(0.0, 1.0, 0.0), 0.5),
+        (glam::Vec3::new(1.0, 2.0, 0.0), 0.5),
+    ];
+    assert_eq!(got.len(), 4, "{got:?}");
+    for ((c, r), (wc, wr)) in got.iter().zip(want) {
+        assert!((*c - wc).length() < 1e-5 && (r - wr).abs() < 1e-5, "{got:?}");
+    }
+}
+
+fn material<'a>(d: &'a SceneDesc, key: &str) -> &'a MaterialDesc {
+    d.materials.get(key).unwrap_or_else(|| panic!("no material {key}: {:?}", d.materials.keys().collect::<Vec<_>>()))
+}
+
+#[test]
+fn materials_map_to_prism_with_each_versions_roughness_remapping() {
+    let v3 = "LookAt 0 0 -5 0 0 0 0 1 0\nCamera \"perspective\"\nWorldBegin\n\
+        MakeNamedMaterial \"p\" \"string type\" \"plastic\" \"float roughness\" 0.1 \"color Kd\" [0.2 0.3 0.4]\n\
+        MakeNamedMaterial \"m\" \"string type\" \"metal\"\n\
+        MakeNamedMaterial \"g\" \"string type\" \"glass\" \"float index\" 1.33\n\
+        MakeNamedMaterial \"u\" \"string type\" \"uber\" \"float index\" 1 \"rgb Kd\" [0.5 0.5 0.5]\n\
+        MakeNamedMaterial \"x\" \"string type\" \"mix\" \"string namedmaterial1\" \"p\" \"string namedmaterial2\" \"m\" \"float amount\" 0.25\n\
+        WorldEnd\n";
+    let ron = ron_of(&write("mat3.pbrt", v3));
+    let d = desc(&ron);
+    match material(&d, "named:p") {
+        MaterialDesc::RoughPlastic { alpha: ScalarDesc::Value(a), .. } => {
+            assert!((*a as f64 - roughness_to_alpha_v3(0.1)).abs() < 1e-6, "{a}")
+        }
+        other => panic!("{other:?}"),
+    }
+    assert!(matches!(material(&d, "named:m"), MaterialDesc::RoughConductor { material: Some(m), .. } if m == "Cu"));
+    assert!(
+        matches!(material(&d, "named:g"), MaterialDesc::RoughDielectric { ior, alpha: ScalarDesc::Value(a), .. } if (*ior - 1.33).abs() < 1e-6 && *a == 0.0)
+    );
+    assert!(
+        matches!(material(&d, "named:u"), MaterialDesc::Lambert { .. }),
+        "uber with index 1 reflects nothing specular"
+    );
+    assert!(matches!(material(&d, "named:x"), MaterialDesc::Blend { weight: ScalarDesc::Value(w), .. } if *w == 0.25));
+    let v4 = format!(
+        "{HEAD_V4}WorldBegin\nMakeNamedMaterial \"c\" \"string type\" \"coateddiffuse\" \"float roughness\" 0.04\n"
+    );
+    let ron = ron_of(&write("mat4.pbrt", &v4));
+    match material(&desc(&ron), "named:c") {
+        MaterialDesc::RoughPlastic { alpha: ScalarDesc::Value(a), .. } => {
+            assert!((a - 0.2).abs() < 1e-6, "pbrt-v4: sqrt(0.04), got {a}")
+        }
+        other => panic!("{other:?}"),
+    }
+}
+
+#[test]
+fn spot_lights_take_their_versions_falloff_and_every_profile_has_its_exact_power() {
+    let spot = "LightSource \"spot\" \"point3 from\" [0 5 0] \"point3 to\" [0 0 0] \"float coneangle\" 40 \"float conedeltaangle\" 10\n";
+    for (head, want) in [
+        (format!("{HEAD_V4}WorldBegin\n"), SpotProfile::Smoothstep),
+        (
+            format!("{}WorldBegin\n", HEAD_V4.replace("ColorSpace \"srgb\"\n", "").replace("point3", "point"))
+                + "WorldEnd\n",
+            SpotProfile::Quartic,
+        ),
+    ] {
+        let text =
+            format!("{head}{}", spot.replace("point3", if want == SpotProfile::Quartic { "point" } else { "point3" }));
+        let ron = ron_of(&write("spot.pbrt", &text));
+        let d = desc(&ron);
+        let profile = d.entities.iter().find_map(|e| match &e.light {
+            Some(LightDesc::Spot { profile, cone_angle, falloff, .. }) => {
+                assert_eq!((*cone_angle, *falloff), (40.0, 10.0));
+                Some(*profile)
+            }
+            _ => None,
+        });
+        assert_eq!(profile, Some(want));
+    }
+    // Power = intensity x the integral of the fall-off over the sphere, by quadrature in the cosine.
+    for profile in [SpotProfile::Smoothstep, SpotProfile::Quartic, SpotProfile::Gltf] {
+        let s = SpotLight::new(glam::Vec3A::ZERO, glam::Vec3A::Z, glam::Vec3::ONE, 40.0, 25.0, profile);
+        let n = 200_000;
+        let integral: f64 = (0..n)
+            .map(|i| {
+                let c = -1.0 + 2.0 * (i as f64 + 0.5) / n as f64;
+                let w = glam::Vec3A::new((1.0 - c * c).max(0.0).sqrt() as f32, 0.0, c as f32);
+                s.falloff(w) as f64
+            })
+            .sum::<f64>()
+            * 2.0
+            / n as f64
+            * 2.0
+            * std::f64::consts::PI;
+        let p = s.power().x as f64;
+        assert!((p - integral).abs() / integral < 1e-4, "{profile:?}: power {p} vs integral {integral}");
+    }
+}
+
+#[test]
+fn reverse_orientation_and_mirroring_transforms_choose_the_emitting_side_as_pbrt_does() {
+    let emit = |extra: &str| {
+        let text = format!(
+            "{HEAD_V4}Integrator \"path\" \"integer maxdepth\" 0\nWorldBegin\nAttributeBegin\n{extra}\nAreaLightSource \"diffuse\" \"rgb L\" [1 1 1]\n\
+             Shape \"trianglemesh\" \"point3 P\" [-1 -1 0  1 -1 0  1 1 0  -1 1 0] \"integer indices\" [0 2 1 0 3 2]\nAttributeEnd\n"
+        );
+        let img = render_file(&write("orient.pbrt", &text), spp(1));
+        img.pixels.iter().map(|p| p.x).sum::<f32>()
+    };
+    // Wound counter-clockwise seen from the camera (at -z): its front faces the camera.
+    let plain = emit("");
+    let reversed = emit("ReverseOrientation");
+    let mirrored = emit("Scale -1 1 1");
+    let both = emit("ReverseOrientation\nScale -1 1 1");
+    assert!(plain > 10.0, "the front emits towards the camera");
+    assert_eq!(reversed, 0.0, "ReverseOrientation turns the emitting side away");
+    assert!(mirrored > 10.0, "a mirroring transform keeps pbrt's side (it flips the winding and the side back)");
+    assert_eq!(both, 0.0);
+}
+
+/// Convert `text`; assert a one-line error at `line:col` containing `needle`.
+fn pbrt_error(text: &str, line_col: &str, needle: &str) {
+    let p = write("bad.pbrt", text);
+    let e = convert_file(&p, p.parent().unwrap()).expect_err("malformed pbrt must fail").to_string();
+    assert!(!e.contains('\n'), "one line: {e}");
+    assert!(e.contains(&format!("bad.pbrt:{line_col}")), "position {line_col}: {e}");
+    assert!(e.contains(needle), "{needle:?}: {e}");
+}
+
+#[test]
+fn malformed_pbrt_files_are_one_line_errors_with_file_line_and_column() {
+    let w = "LookAt 0 0 -5 0 0 0 0 1 0\nCamera \"perspective\"\nWorldBegin\n";
+    pbrt_error(&format!("{w}Shape \"sphere\"\nFrobnicate 1 2\n"), "5:1", "unknown directive `Frobnicate`");
+    pbrt_error(
+        &format!("{w}AttributeBegin\nAttributeEnd\nAttributeEnd\n"),
+        "6:1",
+        "AttributeEnd without a matching AttributeBegin",
+    );
+    pbrt_error(&format!("{w}AttributeBegin\n"), "4:1", "AttributeBegin is never closed");
+    pbrt_error(&format!("{w}TransformBegin\nAttributeEnd\n"), "5:1", "closes the TransformBegin");
+    pbrt_error("LookAt 0 0 -5 0 0 0 0 1\nCamera \"perspective\"\n", "2:1", "LookAt expects 9 numbers");
+    pbrt_error("Camera \"perspective\" \"float fov\" \"wide\"\n", "1:34", "expected a number");
+    pbrt_error("Camera \"perspective\" \"string fov\" \"wide\"\nWorldBegin\n", "1:22", "should be of type float");
+    pbrt_error("Shape \"sphere\"\n", "1:1", "before WorldBegin");
+    pbrt_error(&format!("{w}Shape \"plymesh\" \"string filename\" \"missing.ply\"\n"), "4:17", "file not found");
+    pbrt_error(
+        &format!("{w}Shape \"trianglemesh\" \"point3 P\" [0 0 0 1 0 0 0 1 0] \"integer indices\" [0 1 3]\n"),
+        "4:1",
+        "out of range",
+    );
+    pbrt_error(&format!("{w}NamedMaterial \"nope\"\n"), "4:1", "unknown material \"nope\"");
+    pbrt_error(&format!("{w}Shape \"sphere\" \"float radius\" [1\n"), "4:16", "missing `]`");
+    pbrt_error(&format!("{w}Material \"matte\" \"string Kd\n"), "4:18", "unterminated string");
+    pbrt_error(&format!("{w}Include \"nowhere.pbrt\"\n"), "4:1", "file not found");
+    pbrt_error(
+        &format!("{w}Texture \"t\" \"spectrum\" \"imagemap\" \"string filename\" \"none.png\"\n"),
+        "4:",
+        "image not found",
+    );
+    pbrt_error("LookAt 0 0 -5 0 0 0 0 1 0\nIntegrator \"nonsense\"\nWorldBegin\n", "2:1", "unknown integrator");
+}
+
+#[test]
+fn a_pbrt_scene_renders_through_the_cli_and_converts_to_a_ron_file_that_loads() {
+    let dir = scratch("pbrt-cli");
+    let out = dir.join("glass.ron");
+    let o = crate::common::prism(&[
+        "convert",
+        data("caustic_glass/f16-9a.pbrt").to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let img = render_file(&out, Overrides { size: Some((14, 20)), spp: Some(1), ..Default::default() });
+    assert!(img.pixels.iter().any(|p| p.x > 0.0));
+}
+
+#[test]
+fn a_pbrt_v3_environment_map_is_looked_up_in_pbrts_frame_z_up_phi_from_x() {
+    // A 16 x 8 equirect map: red around phi = 0 (+x), green around phi = 90 degrees (+y), on the horizon rows.
+    let dir = scratch("pbrt-env");
+    let (w, h) = (16u32, 8u32);
+    let mut px = vec![glam::Vec3::ZERO; (w * h) as usize];
+    for y in 3..5 {
+        for x in [15, 0] {
+            px[(y * w + x) as usize] = glam::Vec3::new(1.0, 0.0, 0.0);
+        }
+        for x in [3, 4] {
+            px[(y * w + x) as usize] = glam::Vec3::new(0.0, 1.0, 0.0);
+        }
+    }
+    prism::io::write_exr(&dir.join("sky.exr"), &prism::io::Image::new(w, h, px)).unwrap();
+    let look = |to: &str| {
+        let text = format!(
+            "LookAt 0 0 0  {to}  0 0 1\nCamera \"perspective\" \"float fov\" 5\nFilm \"image\" \"integer xresolution\" 4 \"integer yresolution\" 4\n\
+             Integrator \"path\" \"integer maxdepth\" 1\nWorldBegin\nLightSource \"infinite\" \"string mapname\" \"sky.exr\"\nWorldEnd\n"
+        );
+        std::fs::write(dir.join("env.pbrt"), text).unwrap();
+        render_file(&dir.join("env.pbrt"), spp(4)).mean()
+    };
+    let (px_, py, nx, ny) = (look("1 0 0"), look("0 1 0"), look("-1 0 0"), look("0 -1 0"));
+    assert!(px_.x > 0.4 && px_.y < 0.05, "+x sees red: {px_:?}");
+    assert!(py.y > 0.4 && py.x < 0.05, "+y sees green: {py:?}");
+    assert!(nx.max_element() < 0.05 && ny.max_element() < 0.05, "-x {nx:?}, -y {ny:?} see nothing");
+}
+
+#[test]
+fn image_textures_keep_pbrts_orientation_and_uv_scale() {
+    // A 2 x 2 texture: top row red, bottom row blue. pbrt's v = 0 is the image's bottom row.
+    let dir = scratch("pbrt-tex");
+    let px = vec![glam::Vec3::X, glam::Vec3::X, glam::Vec3::Z, glam::Vec3::Z];
+    prism::io::write_exr(&dir.join("rb.exr"), &prism::io::Image::new(2, 2, px)).unwrap();
+    let text = format!(
+        "{HEAD_V4}Integrator \"path\" \"integer maxdepth\" 1\nWorldBegin\nLightSource \"infinite\" \"rgb L\" [1 1 1]\n\
+         Texture \"t\" \"spectrum\" \"imagemap\" \"string filename\" \"rb.exr\" \"string wrap\" \"clamp\"\n\
+         Material \"diffuse\" \"texture reflectance\" \"t\"\n\
+         Shape \"trianglemesh\" \"point3 P\" [-1 -1 0  1 -1 0  1 1 0  -1 1 0] \"point2 uv\" [0 0  1 0  1 1  0 1] \"integer indices\" [0 2 1 0 3 2]\n"
+    );
+    std::fs::write(dir.join("tex.pbrt"), text).unwrap();
+    let img = render_file(&dir.join("tex.pbrt"), spp(4));
+    // The quad covers pixel rows and columns 4 to 11; its top (y = +1, v = 1 in pbrt) shows the image's top row.
+    let row = |y: u32| (5..11).map(|x| img.get(x, y)).fold(glam::Vec3::ZERO, |a, b| a + b);
+    assert!(row(5).x > 4.0 * row(5).z, "top of the quad is red: {:?}", row(5));
+    assert!(row(10).z > 4.0 * row(10).x, "bottom of the quad is blue: {:?}", row(10));
+}
