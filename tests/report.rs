@@ -113,6 +113,59 @@ fn the_small_suite_writes_a_complete_page_whose_measurements_show_the_physics() 
             .any(|r| r["variant"] == "sky with NaN texels" && r["metric"] == "nonfinite_pixels" && r["value"] == "0")
     );
     assert!(err.contains("wrote"), "{err}");
+    the_shown_render_is_what_prism_render_gives(&dir);
+}
+
+/// The furnace's Sobol render at 4 spp, made again by `prism render` (deterministic: same scene, seed and spp),
+/// has the RMSE the CSV reports, and the page's thumbnail and error map are that render and its error against the
+/// reference on the scale `maps.csv` names.
+fn the_shown_render_is_what_prism_render_gives(dir: &Path) {
+    let exr = dir.join("furnace-sobol-4.exr");
+    let out = prism(&[
+        "render",
+        root().join("scenes/furnace.ron").to_str().unwrap(),
+        "--integrator",
+        "envlight",
+        "--sampler",
+        "sobol",
+        "--spp",
+        "4",
+        "-q",
+        "-o",
+        exr.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let render = prism::io::read_image(&exr).unwrap();
+    let reference = prism::io::read_image(&refs("furnace.exr")).unwrap();
+    let rmse = prism::compare::compare(&render, &reference).unwrap().rmse;
+    let row = csv(&dir.join("convergence.csv"))
+        .into_iter()
+        .find(|r| r["scene"] == "furnace" && r["method"] == "path tracer, Sobol" && r["spp"] == "4")
+        .unwrap();
+    let reported: f64 = row["rmse"].parse().unwrap();
+    assert!((reported - rmse).abs() <= 1e-6 * rmse, "the CSV says RMSE {reported}, prism render gives {rmse}");
+    // The thumbnail: the render in sRGB bytes (the furnace's exposure is 0).
+    let thumb = image::open(dir.join("img/furnace-m0.png")).unwrap().to_rgb8();
+    let expected = prism::report::images::srgb_bytes(&render, 0.0);
+    assert_eq!((thumb.width(), thumb.height()), (render.width, render.height));
+    let worst = thumb.as_raw().iter().zip(&expected).map(|(a, b)| a.abs_diff(*b)).max().unwrap();
+    assert!(worst <= 1, "the thumbnail differs from the render by {worst} levels");
+    // The error map: |render - reference| (mean of RGB) through viridis, 0 to the scale's top.
+    let map = csv(&dir.join("maps.csv")).into_iter().find(|r| r["picture"] == "img/furnace-m0-error.png").unwrap();
+    let max: f32 = map["scale_max"].parse().unwrap();
+    assert!(max > 0.0);
+    let colours = image::open(dir.join("img/furnace-m0-error.png")).unwrap().to_rgb8();
+    let errors = prism::report::images::abs_error(&render, &reference);
+    let mut off = 0;
+    for (px, e) in colours.pixels().zip(&errors) {
+        let want = prism::report::images::viridis(e / max);
+        if px.0.iter().zip(want).any(|(a, b)| a.abs_diff(b) > 3) {
+            off += 1;
+        }
+    }
+    assert_eq!(off, 0, "{off} pixels of the error map do not show the render's error");
+    // A map that showed nothing (or another render) would fail: the sphere's pixels have error, the rest none.
+    assert!(errors.iter().filter(|e| **e > 0.0).count() > 1000);
 }
 
 #[test]

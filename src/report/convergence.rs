@@ -53,7 +53,7 @@ fn reference(ctx: &Ctx, case: &SceneCase, w: u32, h: u32) -> Result<(Image, Opti
         }
         Reference::Render(r) => {
             let job = RenderJob {
-                scene: &case.scene,
+                scene: r.scene.as_ref().unwrap_or(&case.scene),
                 integrator: Some(&r.integrator),
                 sampler: r.sampler,
                 size: Some((w, h)),
@@ -351,6 +351,11 @@ fn shown_images(ctx: &mut Ctx, case: &SceneCase, curves: &[Curve], reference: &I
         let (p1, r1) = ctx.picture(&format!("{name}-m{i}"));
         let (p2, r2) = ctx.picture(&format!("{name}-m{i}-error"));
         let (p3, r3) = ctx.picture(&format!("{name}-m{i}-crop"));
+        ctx.csv(
+            "maps.csv",
+            MAPS_HEADER,
+            format!("{r2},{},{},{},{max:.6e}", field(name), field(&c.label), r.spp),
+        );
         let written = images::write_thumbnail(&p1, &r.image, exposure)
             .and_then(|_| images::write_false_colour(&p2, err, w, h, max, images::viridis))
             .and_then(|_| images::write_thumbnail(&p3, &crop_img, exposure));
@@ -392,6 +397,9 @@ fn shown_images(ctx: &mut Ctx, case: &SceneCase, curves: &[Curve], reference: &I
     s
 }
 
+/// The columns of `maps.csv`: each error map, what it shows, and the error drawn at the top of its colour scale.
+pub(super) const MAPS_HEADER: &str = "picture,case,method,spp,scale_max";
+
 /// A curve's name, its (seconds, RMSE) points and its lowest RMSE.
 type Timed = (String, Vec<(f64, f64)>, f64);
 
@@ -419,7 +427,11 @@ fn equal_error(ctx: &mut Ctx, case: &SceneCase, curves: &[Curve], peers: &[PeerC
         let mut row = vec![esc(label), num(*low)];
         row.push(t.map_or("-".into(), |t| format!("{} s", num(t))));
         row.push(t.map_or("-".into(), |t| {
-            if t <= fastest * (1.0 + 1e-9) { "1 (fastest)".into() } else { format!("{}x", num(t / fastest)) }
+            if i < ours.len() && t <= fastest * (1.0 + 1e-9) {
+                "1 (fastest)".into()
+            } else {
+                format!("{}x", num(t / fastest))
+            }
         }));
         ctx.csv(
             "equal_error.csv",

@@ -14,7 +14,7 @@ use std::fmt::Write as _;
 
 pub(super) fn section(ctx: &mut Ctx, cases: &[StabilityCase]) -> String {
     let mut s = String::from(
-        r#"<section id="stability"><h2>Stability atlas</h2><p class="caption">Where methods fail: each known failure mode, pictured, with what it does to the measurements. Surfaces of revolution (Newton iteration at grazing angles) join the atlas when the renderer has them.</p><div class="cases">"#,
+        r#"<section id="stability"><h2>Stability atlas</h2><p class="caption">Where methods fail: each known failure mode, pictured, with what it does to the measurements.</p><div class="cases">"#,
     );
     for case in cases {
         ctx.log(format!("stability: {}", case.name()));
@@ -68,7 +68,7 @@ fn renders(ctx: &mut Ctx, c: &RendersCase) -> String {
         }
         (Some(Reference::Render(r)), Some(size)) => {
             let job = RenderJob {
-                scene: &first_scene,
+                scene: r.scene.as_ref().unwrap_or(&first_scene),
                 integrator: Some(&r.integrator),
                 sampler: r.sampler,
                 size: Some(size),
@@ -163,6 +163,11 @@ fn renders(ctx: &mut Ctx, c: &RendersCase) -> String {
                 {
                     let (p2, r2) = ctx.picture(&format!("{}-v{i}-error", c.name));
                     let err = images::abs_error(&o.image, r);
+                    ctx.csv(
+                        "maps.csv",
+                        super::convergence::MAPS_HEADER,
+                        format!("{r2},{},{},{},{max:.6e}", field(&c.name), field(&v.label), o.spp),
+                    );
                     pair += &match images::write_false_colour(&p2, &err, r.width, r.height, max, images::viridis) {
                         Ok(()) => html::figure(&r2, &format!("{} error", v.label), shown, "error map", "map"),
                         Err(e) => ctx.problem("stability", &item, e),

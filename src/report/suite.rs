@@ -65,6 +65,10 @@ pub struct ReferenceRender {
     /// Seed of the reference (default: 1000003, far from the measured renders' seed 0).
     #[serde(default)]
     pub seed: Option<u64>,
+    /// The scene rendered as the reference (default: the case's), e.g. an analytic shape that a variant's
+    /// surface approximates.
+    #[serde(default)]
+    pub scene: Option<PathBuf>,
 }
 
 /// One curve of a convergence chart: an integrator spec and optionally a sampler and accelerator.
@@ -379,9 +383,12 @@ fn resolve_paths(s: &mut Suite, base: &Path) {
         }
     };
     let fix_ref = |r: &mut Reference| {
-        if let Reference::File(p) = r
-            && p.is_relative()
-        {
+        let p = match r {
+            Reference::File(p) => p,
+            Reference::Render(ReferenceRender { scene: Some(p), .. }) => p,
+            Reference::Render(_) => return,
+        };
+        if p.is_relative() {
             *p = lexical(&base.join(&*p));
         }
     };
