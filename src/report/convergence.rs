@@ -351,11 +351,7 @@ fn shown_images(ctx: &mut Ctx, case: &SceneCase, curves: &[Curve], reference: &I
         let (p1, r1) = ctx.picture(&format!("{name}-m{i}"));
         let (p2, r2) = ctx.picture(&format!("{name}-m{i}-error"));
         let (p3, r3) = ctx.picture(&format!("{name}-m{i}-crop"));
-        ctx.csv(
-            "maps.csv",
-            MAPS_HEADER,
-            format!("{r2},{},{},{},{max:.6e}", field(name), field(&c.label), r.spp),
-        );
+        ctx.csv("maps.csv", MAPS_HEADER, format!("{r2},{},{},{},{max:.6e}", field(name), field(&c.label), r.spp));
         let written = images::write_thumbnail(&p1, &r.image, exposure)
             .and_then(|_| images::write_false_colour(&p2, err, w, h, max, images::viridis))
             .and_then(|_| images::write_thumbnail(&p3, &crop_img, exposure));
