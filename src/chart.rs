@@ -12,6 +12,16 @@ pub struct Series {
     pub points: Vec<(f64, f64)>,
 }
 
+/// Extra marks on a chart: horizontal reference lines (e.g. a reference image's own noise) and series drawn dashed
+/// (e.g. a peer renderer's). Kept apart from [`Chart`] so that existing charts need not name them.
+#[derive(Clone, Debug, Default)]
+pub struct Decor {
+    /// `(label, y)`: a dashed grey line across the plot at `y`, labelled at its right end.
+    pub hlines: Vec<(String, f64)>,
+    /// Names of the series drawn dashed.
+    pub dashed: Vec<String>,
+}
+
 #[derive(Clone, Debug, Default)]
 pub struct Chart {
     pub title: String,
@@ -125,14 +135,20 @@ fn label(v: f64) -> String {
 }
 
 fn esc(s: &str) -> String {
-    s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;")
+    s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;")
 }
 
 impl Chart {
     pub fn to_svg(&self) -> String {
+        self.to_svg_with(&Decor::default())
+    }
+
+    /// The chart with `decor`'s reference lines and dashed series. Every series is a `<polyline class="curve">`
+    /// with its name in `data-series` (a page test can check that each curve was drawn).
+    pub fn to_svg_with(&self, decor: &Decor) -> String {
         let pts = || self.series.iter().flat_map(|s| s.points.iter().copied());
         let xa = Axis::new(pts().map(|p| p.0), self.log_x);
-        let ya = Axis::new(pts().map(|p| p.1), self.log_y);
+        let ya = Axis::new(pts().map(|p| p.1).chain(decor.hlines.iter().map(|h| h.1)), self.log_y);
         let (pw, ph) = (W - LEFT - RIGHT, H - TOP - BOTTOM);
         let px = |v: f64| LEFT + xa.t(v) * pw;
         let py = |v: f64| TOP + (1.0 - ya.t(v)) * ph;
@@ -176,6 +192,24 @@ impl Chart {
             TOP + ph / 2.0,
             esc(&self.y_label)
         );
+        for (label, y) in &decor.hlines {
+            if !(y.is_finite() && (!self.log_y || *y > 0.0)) {
+                continue;
+            }
+            let y = py(*y);
+            let _ = write!(
+                s,
+                r##"<line x1="{LEFT}" y1="{y:.1}" x2="{:.1}" y2="{y:.1}" stroke="#777" stroke-dasharray="2 3"/>"##,
+                LEFT + pw
+            );
+            let _ = write!(
+                s,
+                r##"<text x="{:.1}" y="{:.1}" text-anchor="end" fill="#555" font-size="11">{}</text>"##,
+                LEFT + pw - 4.0,
+                y - 4.0,
+                esc(label)
+            );
+        }
         for (i, series) in self.series.iter().enumerate() {
             let color = COLORS[i % COLORS.len()];
             let visible: Vec<(f64, f64)> = series
@@ -187,8 +221,13 @@ impl Chart {
                 })
                 .collect();
             let path: Vec<String> = visible.iter().map(|&(x, y)| format!("{:.1},{:.1}", px(x), py(y))).collect();
-            let _ =
-                write!(s, r#"<polyline points="{}" fill="none" stroke="{color}" stroke-width="2"/>"#, path.join(" "));
+            let dash = if decor.dashed.contains(&series.name) { r#" stroke-dasharray="6 4""# } else { "" };
+            let _ = write!(
+                s,
+                r#"<polyline class="curve" data-series="{}" points="{}" fill="none" stroke="{color}" stroke-width="2"{dash}/>"#,
+                esc(&series.name),
+                path.join(" ")
+            );
             for &(x, y) in &visible {
                 let _ = write!(s, r#"<circle cx="{:.1}" cy="{:.1}" r="3" fill="{color}"/>"#, px(x), py(y));
             }
@@ -196,7 +235,7 @@ impl Chart {
             let lx = LEFT + pw + 14.0;
             let _ = write!(
                 s,
-                r#"<line x1="{lx}" y1="{ly}" x2="{}" y2="{ly}" stroke="{color}" stroke-width="2"/>"#,
+                r#"<line x1="{lx}" y1="{ly}" x2="{}" y2="{ly}" stroke="{color}" stroke-width="2"{dash}/>"#,
                 lx + 22.0
             );
             let _ = write!(s, r#"<text x="{}" y="{}">{}</text>"#, lx + 28.0, ly + 4.0, esc(&series.name));

@@ -232,3 +232,51 @@ pub fn write_results(
     spp_chart.write_svg(&s)?;
     Ok(vec![csv_path, t, s])
 }
+
+/// One render spent on a budget: the image, how much it took, and what the film saw.
+#[derive(Clone, Debug)]
+pub struct BudgetRender {
+    pub image: Image,
+    /// Samples per pixel (iterations for multi-pass integrators) rendered.
+    pub spp: u64,
+    /// Wall time of the render passes (set-up excluded).
+    pub seconds: f64,
+    /// CPU time of the render passes (all threads), when the platform reports it.
+    pub cpu_seconds: Option<f64>,
+    /// Set-up time (load, accelerator, lights, integrator preparation).
+    pub setup_seconds: f64,
+    /// Samples the film replaced by 0 because they were NaN or infinite.
+    pub nonfinite: u64,
+    /// The scene's PNG exposure in stops.
+    pub exposure: f32,
+}
+
+/// Run `app` (its scene source, plugins and overrides already set) once with `budget` replacing the overrides'
+/// sample count and time budget: a fresh render whose passes alone are timed.
+pub fn render_budget(app: &mut App, budget: Budget) -> Result<BudgetRender> {
+    let o = &mut app.resources.overrides;
+    match budget {
+        Budget::Spp(n) => {
+            o.spp = Some(n);
+            o.time_budget = None;
+            o.spp_unlimited = false;
+        }
+        Budget::Seconds(t) => {
+            o.spp = None;
+            o.time_budget = Some(t);
+            o.spp_unlimited = true;
+        }
+    }
+    app.run()?;
+    let image = crate::render::film_image(&app.resources).ok_or_else(|| PrismError::invalid("no image"))?;
+    let progress = &app.resources.progress;
+    Ok(BudgetRender {
+        image,
+        spp: progress.spp_done,
+        seconds: progress.elapsed.as_secs_f64(),
+        cpu_seconds: progress.cpu.map(|c| c.as_secs_f64()),
+        setup_seconds: progress.setup.as_secs_f64(),
+        nonfinite: app.resources.film.as_ref().map_or(0, |f| f.nonfinite),
+        exposure: app.resources.settings.exposure,
+    })
+}

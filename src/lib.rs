@@ -38,6 +38,7 @@ pub mod mesh_tangents;
 pub mod primitives;
 pub mod propagate;
 pub mod render;
+pub mod report;
 pub mod sampling;
 pub mod scene;
 pub mod settings;

@@ -28,6 +28,7 @@ mod patch_stability;
 mod plugin;
 mod ppm;
 mod reliability;
+mod report;
 mod resume;
 mod samplers;
 mod sampling;

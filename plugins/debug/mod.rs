@@ -17,6 +17,7 @@
 //! written (a linear `.tga` then shows them as listed, as the 6.837 course's images). One camera ray per sample through the
 //! pixel pattern; `heat` traces one ray through each pixel centre and replaces the image each pass.
 
+use crate::accel::TraversalWork;
 use crate::app::{App, Plugin};
 use crate::error::{PrismError, Result};
 use crate::geometry::Ray;
@@ -48,6 +49,17 @@ pub enum HeatCount {
     Nodes,
     Prims,
     Total,
+}
+
+impl HeatCount {
+    /// The count of one ray's work.
+    pub fn of(self, work: TraversalWork) -> f32 {
+        match self {
+            HeatCount::Nodes => work.nodes as f32,
+            HeatCount::Prims => work.prims as f32,
+            HeatCount::Total => (work.nodes + work.prims) as f32,
+        }
+    }
 }
 
 #[derive(Deserialize, Debug, Clone, Copy, Default)]
@@ -102,8 +114,9 @@ impl Plugin for DebugPlugin {
     }
 }
 
-/// Colour ramp black - purple - red - orange - yellow - white (inferno-like), `t` in [0, 1], as sRGB.
-fn ramp(t: f32) -> Vec3 {
+/// Colour ramp black - purple - red - orange - yellow - white (inferno-like), `t` in [0, 1], as sRGB (the heat
+/// maps' colours; `prism report` colours its own heat maps with it).
+pub fn ramp(t: f32) -> Vec3 {
     const STOPS: [[f32; 3]; 6] = [
         [0.0, 0.0, 0.0],
         [0.26, 0.04, 0.41],
@@ -230,6 +243,28 @@ impl DebugView {
     }
 }
 
+/// The traversal work of the camera ray through each pixel centre of a `w x h` image of the scene's camera, one
+/// row per image row (`None` for rows skipped because `cancel` was set).
+pub fn heat_rows(scene: &Scene, w: u32, h: u32, cancel: &AtomicBool) -> Vec<Option<Vec<TraversalWork>>> {
+    (0..h)
+        .into_par_iter()
+        .map(|y| {
+            if cancel.load(Ordering::Relaxed) {
+                return None;
+            }
+            let row = (0..w)
+                .map(|x| {
+                    let ray = scene.camera.generate_ray(Vec2::new(x as f32 + 0.5, y as f32 + 0.5));
+                    let mut work = TraversalWork::default();
+                    scene.accel.intersect_counted(&scene.prims, &ray, &mut work);
+                    work
+                })
+                .collect();
+            Some(row)
+        })
+        .collect()
+}
+
 /// `heat`: the traversal work of the camera ray through each pixel centre.
 struct HeatMap {
     params: DebugParams,
@@ -239,26 +274,9 @@ struct HeatMap {
 impl Integrator for HeatMap {
     fn render_pass(&mut self, scene: &Scene, pass: &PassInfo, cancel: &AtomicBool) -> PassOutput {
         let (w, h) = (pass.settings.width, pass.settings.height);
-        let counts: Vec<Option<Vec<f32>>> = (0..h)
-            .into_par_iter()
-            .map(|y| {
-                if cancel.load(Ordering::Relaxed) {
-                    return None;
-                }
-                let row = (0..w)
-                    .map(|x| {
-                        let ray = scene.camera.generate_ray(Vec2::new(x as f32 + 0.5, y as f32 + 0.5));
-                        let mut work = crate::accel::TraversalWork::default();
-                        scene.accel.intersect_counted(&scene.prims, &ray, &mut work);
-                        match self.params.heat {
-                            HeatCount::Nodes => work.nodes as f32,
-                            HeatCount::Prims => work.prims as f32,
-                            HeatCount::Total => (work.nodes + work.prims) as f32,
-                        }
-                    })
-                    .collect();
-                Some(row)
-            })
+        let counts: Vec<Option<Vec<f32>>> = heat_rows(scene, w, h, cancel)
+            .into_iter()
+            .map(|row| row.map(|r| r.iter().map(|&work| self.params.heat.of(work)).collect()))
             .collect();
         let complete = counts.iter().all(Option::is_some);
         let counts: Vec<f32> = counts.into_iter().flat_map(|r| r.unwrap_or_else(|| vec![0.0; w as usize])).collect();

@@ -15,6 +15,7 @@
 //!
 //! [`Scene`]: crate::scene::Scene
 
+pub mod bench;
 mod brute;
 mod bvh;
 mod bvh_fallback;

@@ -1,5 +1,5 @@
-//! The `prism` command line (clap), per DESIGN section 3: `render`, `compare`, `converge`, `bench`, `convert` and
-//! `tessellate`, plus `raytracer` and `curve_editor` (6.837 course command lines).
+//! The `prism` command line (clap), per DESIGN section 3: `render`, `compare`, `converge`, `bench`, `convert`,
+//! `tessellate` and `report`, plus `raytracer` and `curve_editor` (6.837 course command lines).
 
 mod bench_cmd;
 mod compare_cmd;
@@ -9,6 +9,7 @@ mod course_views;
 mod merge_cmd;
 mod raytracer_cmd;
 mod render_cmd;
+mod report_cmd;
 mod tessellate_cmd;
 
 use clap::{Parser, Subcommand};
@@ -35,6 +36,8 @@ pub enum Command {
     Convert(convert_cmd::ConvertArgs),
     /// Run a 6.837 course command line (`-input scene.txt -size 200 200 -output out.tga -grid 5 5 5 ...`).
     Raytracer(raytracer_cmd::RaytracerArgs),
+    /// The speed-vs-accuracy and stability atlas of a suite: DIR/index.html with charts, images and CSV.
+    Report(report_cmd::ReportArgs),
     /// Tessellate a 6.837 spline file (surfaces of revolution, Bézier patches) into an OBJ mesh.
     Tessellate(tessellate_cmd::TessellateArgs),
     /// Run a 6.837 curve editor command line (`-input spline.txt -curve_tessellation 30 -output out.obj ...`).
@@ -73,6 +76,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Convert(args) => convert_cmd::run(args),
         Command::Merge(args) => merge_cmd::run(args),
         Command::Raytracer(args) => raytracer_cmd::run(args),
+        Command::Report(args) => report_cmd::run(args),
         Command::Tessellate(args) => tessellate_cmd::run(args),
         Command::CurveEditor(args) => tessellate_cmd::run_curve_editor(args),
         Command::Compare { test, reference, json } => compare_cmd::run(&test, &reference, json),
