@@ -11,7 +11,7 @@ use std::path::Path;
 pub type Entry = fn(&[u8]);
 
 /// Every target, by the name of its `fuzz/fuzz_targets/NAME.rs` and `tests/fuzz_corpus/NAME/`.
-pub const TARGETS: [(&str, Entry); 8] = [
+pub const TARGETS: [(&str, Entry); 12] = [
     ("ron_scene", ron_scene),
     ("mit6837_scene", mit6837_scene),
     ("obj_mtl", obj_mtl),
@@ -20,6 +20,10 @@ pub const TARGETS: [(&str, Entry); 8] = [
     ("integrator_spec", integrator_spec),
     ("film_file", film_file),
     ("ray_file", ray_file),
+    ("mit6837_spline", mit6837_spline),
+    ("ply_mesh", ply_mesh),
+    ("gltf_scene", gltf_scene),
+    ("pbrt_scene", pbrt_scene),
 ];
 
 /// A base directory that does not exist: relative file names in fuzzed scenes resolve to nothing.
@@ -139,4 +143,67 @@ pub fn film_file(data: &[u8]) {
 /// A `.prism-rays` file (`prism bench --export-rays`).
 pub fn ray_file(data: &[u8]) {
     let _ = crate::accel::ray_file::RaySetFile::from_bytes(data, Path::new("fuzz.prism-rays"));
+}
+
+/// A 6.837 spline file: parsed, its surfaces tessellated (the curve editor's default resolutions) with their
+/// tangent frames, and written back in both bases, which must parse again.
+pub fn mit6837_spline(data: &[u8]) {
+    use crate::load::mit6837::spline::{Tessellation, parse_splines, tessellate_splines, write_splines};
+    let Ok(text) = std::str::from_utf8(data) else { return };
+    let file = Path::new("fuzz.txt");
+    let Ok(items) = parse_splines(text, file) else { return };
+    if let Ok(Some(mesh)) = tessellate_splines(&items, Tessellation::default()) {
+        let _ = crate::mesh_tangents::mikktspace_tangents(&mesh);
+    }
+    for kind in [crate::shapes::CurveKind::Bezier, crate::shapes::CurveKind::BSpline] {
+        if let Ok(written) = write_splines(&items, kind)
+            && let Err(e) = parse_splines(&written, file)
+        {
+            panic!("the spline file written in the {} basis does not parse: {e}\n{written}", kind.name());
+        }
+    }
+}
+
+/// A PLY file (ASCII or binary), then its mesh's tangent frames (as for normal-mapped meshes).
+pub fn ply_mesh(data: &[u8]) {
+    if let Ok(mesh) = crate::load::ply::parse_ply(data, Path::new("fuzz.ply")) {
+        let _ = crate::mesh_tangents::mikktspace_tangents(&mesh);
+    }
+}
+
+/// glTF JSON or GLB bytes, external buffers and images resolving to nothing: loaded, set up and rendered (4x4
+/// pixels, 1 sample).
+pub fn gltf_scene(data: &[u8]) {
+    let mut app = App::with_default_plugins();
+    app.resources.materials.push(crate::material::Material::default());
+    let (world, res) = (&mut app.world, &mut app.resources);
+    let loaded = crate::load::with_loader_stack(|| {
+        crate::load::gltf::load_gltf_bytes(data, Path::new("fuzz.glb"), None, world, res)
+    });
+    if loaded.is_err() {
+        return;
+    }
+    app.resources.overrides =
+        Overrides { size: Some((4, 4)), spp: Some(1), passes: Some(1), time_budget: None, ..Default::default() };
+    let _ = app.run();
+}
+
+/// A pbrt-v3/v4 scene: converted to RON (no file it names is read), which must parse; when the RON names no
+/// file, loaded, set up and rendered (4x4 pixels, 1 sample).
+pub fn pbrt_scene(data: &[u8]) {
+    let Ok(text) = std::str::from_utf8(data) else { return };
+    let file = Path::new("fuzz.pbrt");
+    let converted = crate::load::with_loader_stack(|| {
+        let ron = crate::load::pbrt::convert_text(text, file, None, Path::new(NO_DIR))?.ron;
+        if let Err(e) = crate::load::parse_scene(&ron, file) {
+            panic!("the RON written for a pbrt scene does not parse: {e}\n{ron}");
+        }
+        Ok(ron)
+    });
+    let Ok(ron) = converted else { return };
+    // PLY meshes, image textures and environment maps are files (`path`, `map`); inline meshes are not.
+    if ron.contains("path") || ron.contains("map") {
+        return;
+    }
+    load_and_render(&ron, "fuzz.pbrt");
 }

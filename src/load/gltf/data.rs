@@ -37,7 +37,8 @@ fn percent_decode(s: &str) -> String {
 }
 
 /// The bytes a URI names: a base64 `data:` URI, or a file relative to `base`.
-pub fn uri_bytes(uri: &str, base: &Path, what: &str, file: &Path) -> Result<Vec<u8>> {
+/// With `base` `None` (a glTF given as bytes), files resolve to nothing.
+pub fn uri_bytes(uri: &str, base: Option<&Path>, what: &str, file: &Path) -> Result<Vec<u8>> {
     let err = |m: String| PrismError::format(file, format!("{what}: {m}"));
     if let Some(rest) = uri.strip_prefix("data:") {
         let (_, payload) = rest.split_once(";base64,").ok_or_else(|| err("a data URI that is not base64".into()))?;
@@ -48,13 +49,17 @@ pub fn uri_bytes(uri: &str, base: &Path, what: &str, file: &Path) -> Result<Vec<
     if uri.contains("://") {
         return Err(err(format!("URI scheme not supported (only relative files and data URIs): {uri}")));
     }
+    let Some(base) = base else {
+        return Err(err(format!("the external file {uri} is not read (glTF given as bytes)")));
+    };
     let path: PathBuf = base.join(percent_decode(uri));
-    std::fs::read(&path).map_err(|e| err(format!("cannot read {}: {e}", path.display())))
+    // A regular file only: a device or a pipe named by the URI would never end.
+    crate::io::read_regular(&path, "file").map_err(|e| err(format!("cannot read {}: {e}", path.display())))
 }
 
 impl Buffers {
     /// Load every buffer; each must hold at least its declared `byteLength`.
-    pub fn load(doc: &gltf::Document, blob: Option<Vec<u8>>, base: &Path, file: &Path) -> Result<Self> {
+    pub fn load(doc: &gltf::Document, blob: Option<Vec<u8>>, base: Option<&Path>, file: &Path) -> Result<Self> {
         let mut blob = blob;
         let mut data = Vec::new();
         for b in doc.buffers() {

@@ -58,7 +58,7 @@ pub struct Resolved {
 /// Decoded images and the textures made from them, shared by every material of a document.
 pub struct Materials<'a> {
     pub file: PathBuf,
-    pub base: PathBuf,
+    pub base: Option<PathBuf>,
     pub buffers: &'a Buffers,
     decoded: HashMap<usize, Arc<image::DynamicImage>>,
     variants: HashMap<(usize, Variant), Arc<TexImage>>,
@@ -79,10 +79,10 @@ fn image_what(img: &gltf::Image) -> String {
 }
 
 impl<'a> Materials<'a> {
-    pub fn new(file: &Path, base: &Path, buffers: &'a Buffers) -> Self {
+    pub fn new(file: &Path, base: Option<&Path>, buffers: &'a Buffers) -> Self {
         Materials {
             file: file.to_path_buf(),
-            base: base.to_path_buf(),
+            base: base.map(Path::to_path_buf),
             buffers,
             decoded: HashMap::new(),
             variants: HashMap::new(),
@@ -99,7 +99,7 @@ impl<'a> Materials<'a> {
         let what = image_what(img);
         let bytes = match img.source() {
             gltf::image::Source::View { view, .. } => self.buffers.view(&view, &what, &self.file)?.to_vec(),
-            gltf::image::Source::Uri { uri, .. } => uri_bytes(uri, &self.base, &what, &self.file)?,
+            gltf::image::Source::Uri { uri, .. } => uri_bytes(uri, self.base.as_deref(), &what, &self.file)?,
         };
         let label = PathBuf::from(format!("{}: {what}", self.file.display()));
         let d = Arc::new(TexImage::decode_bytes(&bytes, &label)?);

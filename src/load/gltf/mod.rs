@@ -69,6 +69,18 @@ struct Loader<'a> {
 /// Load a glTF file into the world.
 pub fn load_gltf(path: &Path, world: &mut World, res: &mut Resources) -> Result<FileSettings> {
     let bytes = std::fs::read(path).map_err(|e| PrismError::io(path, e))?;
+    load_gltf_bytes(&bytes, path, Some(path.parent().unwrap_or(Path::new("."))), world, res)
+}
+
+/// Load glTF JSON or GLB bytes into the world; `path` names them in messages. External buffers and images
+/// resolve against `base`; with `None` they resolve to nothing (an error when the scene needs one).
+pub fn load_gltf_bytes(
+    bytes: &[u8],
+    path: &Path,
+    base: Option<&Path>,
+    world: &mut World,
+    res: &mut Resources,
+) -> Result<FileSettings> {
     let g = gltf::Gltf::from_slice_without_validation(&bytes).map_err(|e| gltf_error(e, path))?;
     let doc = g.document;
     for ext in doc.extensions_required() {
@@ -80,7 +92,6 @@ pub fn load_gltf(path: &Path, world: &mut World, res: &mut Resources) -> Result<
         }
     }
     let validated = gltf::Document::from_json(doc.clone().into_json()).map_err(|e| gltf_error(e, path))?;
-    let base = path.parent().unwrap_or(Path::new("."));
     let buffers = Buffers::load(&validated, g.blob, base, path)?;
     let mut l = Loader {
         file: path,

@@ -82,6 +82,9 @@ pub struct Converter {
     pub search_dir: PathBuf,
     /// Paths are written relative to this directory (where the RON scene lives).
     pub ron_dir: PathBuf,
+    /// Whether files the scene names are read (`Include`, `.spd` spectra, PLY headers); false for scene text
+    /// converted in memory (fuzzing), where such files are reported missing.
+    pub read_files: bool,
     pub warnings: BTreeSet<String>,
     pub ctm: DMat4,
     pub reverse: bool,
@@ -116,6 +119,7 @@ impl Converter {
             version,
             search_dir: search_dir.to_path_buf(),
             ron_dir: ron_dir.to_path_buf(),
+            read_files: true,
             warnings: BTreeSet::new(),
             ctm: DMat4::IDENTITY,
             reverse: false,
@@ -178,11 +182,28 @@ impl Converter {
             .replace('\\', "/")
     }
 
+    /// The text of a file the scene names (a regular file only: never a device or a pipe); an error when files
+    /// are not read.
+    pub fn read_text(&self, path: &Path, what: &str) -> Result<String> {
+        if !self.read_files {
+            return Err(PrismError::io(
+                path,
+                std::io::Error::new(std::io::ErrorKind::NotFound, format!("{what} not read")),
+            ));
+        }
+        crate::io::read_regular_text(path, what)
+    }
+
     /// Run the directives of one file.
     pub fn run_file(&mut self, path: &Path) -> Result<()> {
-        let text = std::fs::read_to_string(path).map_err(|e| PrismError::io(path, e))?;
-        let tokens = tokenize(&text, path)?;
-        self.run(&tokens, path)
+        let text = self.read_text(path, "included file")?;
+        self.run_text(&text, path)
+    }
+
+    /// Run the directives of scene text; `file` names it in errors.
+    pub fn run_text(&mut self, text: &str, file: &Path) -> Result<()> {
+        let tokens = tokenize(text, file)?;
+        self.run(&tokens, file)
     }
 
     fn run(&mut self, tokens: &[Token], file: &Path) -> Result<()> {
@@ -348,7 +369,7 @@ impl Converter {
             "Include" | "Import" => {
                 let f = string(tokens, i, name, &pos)?;
                 let path = self.resolve(&f);
-                if !path.is_file() {
+                if !self.read_files || !path.is_file() {
                     return Err(perr(&pos, format!("{name}: file not found: {}", path.display())));
                 }
                 if self.include_depth >= 32 {

@@ -46,7 +46,7 @@ pub fn spectrum_rgb(c: &mut Converter, s: &SpectrumParam, what: &str, pos: &Sour
             }
             None if n.ends_with(".spd") => {
                 let path = c.resolve(n);
-                let text = std::fs::read_to_string(&path).map_err(|e| PrismError::io(&path, e))?;
+                let text = c.read_text(&path, "spectrum file")?;
                 let v: Vec<f64> = text
                     .split(|ch: char| ch.is_whitespace() || ch == ',')
                     .filter(|t| !t.is_empty() && !t.starts_with('#'))

@@ -98,10 +98,18 @@ pub fn convert_file(path: &Path, ron_dir: &Path) -> Result<Converted> {
         return Err(PrismError::io(path, std::io::Error::new(std::io::ErrorKind::NotFound, "scene file not found")));
     }
     let text = std::fs::read_to_string(path).map_err(|e| PrismError::io(path, e))?;
-    let version = detect_version(&text, path)?;
     let search_dir = path.parent().unwrap_or(Path::new("."));
-    let mut c = convert::Converter::new(version, search_dir, ron_dir);
-    c.run_file(path)?;
+    convert_text(&text, path, Some(search_dir), ron_dir)
+}
+
+/// Convert pbrt scene text to RON; `path` names it in errors. Relative paths resolve against `search_dir`; with
+/// `None`, no file the scene names is read (`Include`, `Import` and `.spd` spectra are reported missing): scene
+/// text converted in memory.
+pub fn convert_text(text: &str, path: &Path, search_dir: Option<&Path>, ron_dir: &Path) -> Result<Converted> {
+    let version = detect_version(text, path)?;
+    let mut c = convert::Converter::new(version, search_dir.unwrap_or(ron_dir), ron_dir);
+    c.read_files = search_dir.is_some();
+    c.run_text(text, path)?;
     c.finish()?;
     if !c.in_world {
         return Err(PrismError::format(path, "no WorldBegin: the file describes no scene"));

@@ -30,11 +30,14 @@ fn bad(pos: &SourcePos, m: String) -> PrismError {
     PrismError::Parse { pos: pos.clone(), message: m }
 }
 
-/// Does a PLY file declare vertex normals? (Reads the header only.)
-fn ply_has_normals(path: &std::path::Path) -> bool {
+/// Does a PLY file declare vertex normals? (Reads the header only, of a regular file; false when files are not read.)
+fn ply_has_normals(c: &Converter, path: &std::path::Path) -> bool {
     use std::io::Read;
+    if !c.read_files {
+        return false;
+    }
     let mut buf = vec![0u8; 8192];
-    let n = std::fs::File::open(path).and_then(|mut f| f.read(&mut buf)).unwrap_or(0);
+    let n = crate::io::open_regular(path, "PLY file").ok().and_then(|(mut f, _)| f.read(&mut buf).ok()).unwrap_or(0);
     let text = String::from_utf8_lossy(&buf[..n]);
     let header = text.split("end_header").next().unwrap_or("");
     header.lines().any(|l| {
@@ -165,7 +168,7 @@ pub fn shape(c: &mut Converter, ty: &str, p: &Params, pos: &SourcePos) -> Result
                     c.warn(format!("plymesh \"{q}\" is ignored"));
                 }
             }
-            let reverse = if ply_has_normals(&path) { mirror } else { c.reverse != mirror };
+            let reverse = if ply_has_normals(c, &path) { mirror } else { c.reverse != mirror };
             format!("Mesh(path: {}, reverse: {reverse})", quote(&c.ron_path(&path)))
         }
         "trianglemesh" | "bilinearmesh" | "loopsubdiv" => {
