@@ -81,7 +81,7 @@ pub fn load_gltf_bytes(
     world: &mut World,
     res: &mut Resources,
 ) -> Result<FileSettings> {
-    let g = gltf::Gltf::from_slice_without_validation(&bytes).map_err(|e| gltf_error(e, path))?;
+    let g = gltf::Gltf::from_slice_without_validation(bytes).map_err(|e| gltf_error(e, path))?;
     let doc = g.document;
     for ext in doc.extensions_required() {
         if !SUPPORTED.contains(&ext) {
