@@ -432,6 +432,12 @@ fn malformed_gltf_files_are_one_line_errors() {
         "KHR_draco_mesh_compression",
     );
     gltf_error("reference.gltf", ok.replacen("{\"mesh\": 0}", "{\"mesh\": 5}", 1).as_bytes(), "invalid glTF");
+    // gltf-json's own validation indexed this without a check and panicked (found by fuzzing).
+    gltf_error(
+        "position.gltf",
+        ok.replacen("{\"POSITION\": 0}", "{\"POSITION\": 9}", 1).as_bytes(),
+        "names accessor 9 but the file has 2 accessors",
+    );
     let with_image = ok
         .replacen("\"metallicFactor\": 0,", "\"metallicFactor\": 0, \"baseColorTexture\": {\"index\": 0},", 1)
         .replacen(

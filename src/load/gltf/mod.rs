@@ -91,7 +91,9 @@ pub fn load_gltf_bytes(
             ));
         }
     }
-    let validated = gltf::Document::from_json(doc.clone().into_json()).map_err(|e| gltf_error(e, path))?;
+    let json = doc.clone().into_json();
+    check_position_accessors(&json, path)?;
+    let validated = gltf::Document::from_json(json).map_err(|e| gltf_error(e, path))?;
     let buffers = Buffers::load(&validated, g.blob, base, path)?;
     let mut l = Loader {
         file: path,
@@ -480,4 +482,22 @@ impl Loader<'_> {
         let md = MeshData { name: what.to_string(), positions, normals, uvs, indices, tangents };
         Ok(Some((res.meshes.add(md), mat)))
     }
+}
+
+/// gltf-json 1.4's validation reads each primitive's POSITION accessor without checking that it exists (it panics
+/// on `accessors[i]` out of range, found by fuzzing): check every primitive's accessor indices first.
+fn check_position_accessors(json: &gltf::json::Root, path: &Path) -> Result<()> {
+    let n = json.accessors.len();
+    for (m, mesh) in json.meshes.iter().enumerate() {
+        for (k, prim) in mesh.primitives.iter().enumerate() {
+            let bad = prim.attributes.values().chain(prim.indices.iter()).find(|i| i.value() >= n);
+            if let Some(i) = bad {
+                return Err(PrismError::format(
+                    path,
+                    format!("mesh {m} primitive {k} names accessor {} but the file has {n} accessors", i.value()),
+                ));
+            }
+        }
+    }
+    Ok(())
 }
