@@ -438,6 +438,12 @@ fn malformed_gltf_files_are_one_line_errors() {
         ok.replacen("{\"POSITION\": 0}", "{\"POSITION\": 9}", 1).as_bytes(),
         "names accessor 9 but the file has 2 accessors",
     );
+    // The gltf crate unwraps an image's uri (or its mimeType in a buffer view): found by fuzzing.
+    gltf_error(
+        "no-uri.gltf",
+        ok.replacen("\"scene\": 0,", "\"scene\": 0, \"images\": [{\"name\": \"x\"}],", 1).as_bytes(),
+        "image 0 has neither a uri nor a bufferView",
+    );
     let with_image = ok
         .replacen("\"metallicFactor\": 0,", "\"metallicFactor\": 0, \"baseColorTexture\": {\"index\": 0},", 1)
         .replacen(

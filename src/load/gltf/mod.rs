@@ -92,7 +92,7 @@ pub fn load_gltf_bytes(
         }
     }
     let json = doc.clone().into_json();
-    check_position_accessors(&json, path)?;
+    check_before_validation(&json, path)?;
     let validated = gltf::Document::from_json(json).map_err(|e| gltf_error(e, path))?;
     let buffers = Buffers::load(&validated, g.blob, base, path)?;
     let mut l = Loader {
@@ -484,9 +484,20 @@ impl Loader<'_> {
     }
 }
 
-/// gltf-json 1.4's validation reads each primitive's POSITION accessor without checking that it exists (it panics
-/// on `accessors[i]` out of range, found by fuzzing): check every primitive's accessor indices first.
-fn check_position_accessors(json: &gltf::json::Root, path: &Path) -> Result<()> {
+/// What the `gltf` crate (1.4) assumes without checking, found by fuzzing: its validation reads each primitive's
+/// POSITION accessor by index (a panic when out of range), and `Image::source` unwraps a `mimeType` for images in
+/// a buffer view and a `uri` otherwise. Checked here first, as one-line errors.
+fn check_before_validation(json: &gltf::json::Root, path: &Path) -> Result<()> {
+    for (i, img) in json.images.iter().enumerate() {
+        let problem = match (&img.buffer_view, &img.uri, &img.mime_type) {
+            (Some(_), _, None) => Some("is stored in a buffer view but has no mimeType"),
+            (None, None, _) => Some("has neither a uri nor a bufferView"),
+            _ => None,
+        };
+        if let Some(p) = problem {
+            return Err(PrismError::format(path, format!("image {i} {p}")));
+        }
+    }
     let n = json.accessors.len();
     for (m, mesh) in json.meshes.iter().enumerate() {
         for (k, prim) in mesh.primitives.iter().enumerate() {
