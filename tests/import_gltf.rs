@@ -402,6 +402,9 @@ fn malformed_gltf_files_are_one_line_errors() {
     app.run().expect("the unmodified document loads");
     let glb = std::fs::read(data("gltf/BoxTextured-glb/BoxTextured.glb")).unwrap();
     gltf_error("truncated.glb", &glb[..glb.len() / 2], "GLB");
+    let mut short = glb.clone();
+    short[8..12].copy_from_slice(&1u32.to_le_bytes());
+    gltf_error("short-length.glb", &short, "below the header");
     gltf_error("syntax.gltf", &ok.as_bytes()[..ok.len() - 30], "syntax.gltf:");
     gltf_error(
         "range.gltf",

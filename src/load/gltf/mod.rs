@@ -81,6 +81,14 @@ pub fn load_gltf_bytes(
     world: &mut World,
     res: &mut Resources,
 ) -> Result<FileSettings> {
+    // A GLB header whose total length is below the header's own 12 bytes makes the gltf crate subtract with
+    // overflow (a panic with overflow checks; fuzzing).
+    if bytes.starts_with(b"glTF")
+        && bytes.len() >= 12
+        && u32::from_le_bytes([bytes[8], bytes[9], bytes[10], bytes[11]]) < 12
+    {
+        return Err(PrismError::format(path, "GLB header: the file length it states is below the header's 12 bytes"));
+    }
     let g = gltf::Gltf::from_slice_without_validation(bytes).map_err(|e| gltf_error(e, path))?;
     let doc = g.document;
     for ext in doc.extensions_required() {
