@@ -220,7 +220,7 @@ impl WideBvh {
         LEAF_BIT | (self.leaves.len() as u32 - 1)
     }
 
-    /// Collapse the BVH2 subtree at `node` into 4-wide nodes (depth first, a parent before its children); returns
+    /// Collapse the BVH2 subtree at `node` into 8-wide nodes (depth first, a parent before its children); returns
     /// its child slot.
     fn collapse(&mut self, bvh2: &Bvh2, node: usize, prims: &Primitives, depth: usize) -> u32 {
         self.depth = self.depth.max(depth);
@@ -228,7 +228,7 @@ impl WideBvh {
         if nd.prim_count > 0 {
             return self.add_leaf(bvh2, node, prims);
         }
-        // Open the inner child of largest surface area until there are four children.
+        // Open the inner child of largest surface area until there are WIDTH children.
         let mut kids = vec![nd.first_index as usize, nd.first_index as usize + 1];
         while kids.len() < WIDTH {
             let best = kids
@@ -441,7 +441,7 @@ impl Accelerator for WideBvh {
                 + self.packets.len() * std::mem::size_of::<LeafPacket>(),
             nodes: self.nodes.len(),
             detail: format!(
-                "{} 4-wide nodes, depth {}, {} leaves, {} packets",
+                "{} 8-wide nodes, depth {}, {} leaves, {} packets",
                 self.nodes.len(),
                 self.depth,
                 self.leaves.len(),
