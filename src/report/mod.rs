@@ -172,12 +172,12 @@ impl RenderJob<'_> {
     }
 }
 
-/// An accelerator named in a suite: `bvh`, `bvh4`, `kdtree`, `grid`, `grid:NXxNYxNZ`, `grid:flat` (the automatic
+/// An accelerator named in a suite: `bvh`, `cwbvh`, `kdtree`, `grid`, `grid:NXxNYxNZ`, `grid:flat` (the automatic
 /// resolution without nested grids: needs the primitives), `brute`.
 pub(crate) fn parse_accel(spec: &str, prims: Option<&Primitives>) -> Result<AccelKind> {
     let bad = || {
         PrismError::invalid(format!(
-            "unknown accelerator `{spec}` (expected bvh, bvh4, kdtree, grid, grid:NXxNYxNZ, grid:flat or brute)"
+            "unknown accelerator `{spec}` (expected bvh, cwbvh, kdtree, grid, grid:NXxNYxNZ, grid:flat or brute)"
         ))
     };
     match spec.split_once(':') {

@@ -155,7 +155,7 @@ pub struct AccelCase {
     #[serde(default)]
     pub caption: String,
     pub scenes: Vec<PathBuf>,
-    /// `bvh`, `bvh4`, `kdtree`, `grid`, `grid:NXxNYxNZ`, `brute`.
+    /// `bvh`, `cwbvh`, `kdtree`, `grid`, `grid:NXxNYxNZ`, `brute`.
     #[serde(default = "default_accels")]
     pub accels: Vec<String>,
     /// Camera rays: one per pixel of a `rays x rays` image.
