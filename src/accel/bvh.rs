@@ -25,19 +25,22 @@ pub struct BvhAccel {
     pub(super) build_time: Duration,
 }
 
+/// Every bounded primitive's box, grown by a few ulps for the BVH builds: a flat box gets a thickness, so a ray
+/// lying in the plane of flat geometry (coplanar triangles) does not get an empty slab interval.
+pub(super) fn padded_prim_aabbs(prims: &Primitives) -> Vec<Aabb> {
+    (0..prims.num_bounded())
+        .map(|i| {
+            let b = prims.prim_bounds(i);
+            let pad = 4.0 * f32::EPSILON * b.min.abs().max(b.max.abs())
+                + Vec3A::splat(1e-6 * b.diagonal().max_element() + f32::MIN_POSITIVE);
+            Aabb::new(b.min - pad, b.max + pad)
+        })
+        .collect()
+}
+
 impl BvhAccel {
     pub fn build(prims: &Primitives) -> Self {
-        let n = prims.num_bounded();
-        // Boxes grown by a few ulps: a flat box gets a thickness, so a ray lying in the plane of flat geometry
-        // (coplanar triangles) does not get an empty slab interval.
-        let aabbs: Vec<Aabb> = (0..n)
-            .map(|i| {
-                let b = prims.prim_bounds(i);
-                let pad = 4.0 * f32::EPSILON * b.min.abs().max(b.max.abs())
-                    + Vec3A::splat(1e-6 * b.diagonal().max_element() + f32::MIN_POSITIVE);
-                Aabb::new(b.min - pad, b.max + pad)
-            })
-            .collect();
+        let aabbs = padded_prim_aabbs(prims);
         let bvh = if aabbs.is_empty() {
             CwBvh::default()
         } else if super::bvh_fallback::needs_fallback(&aabbs) {

@@ -20,7 +20,7 @@ use super::{AccelStats, Accelerator};
 use crate::geometry::{Ray, TriPacket, WatertightRay, gamma};
 use crate::primitives::{Hit, Primitives};
 use glam::{Vec3A, Vec4};
-use obvhs::{BvhBuildParams, aabb::Aabb, bvh2::Bvh2};
+use obvhs::{BvhBuildParams, bvh2::Bvh2};
 use std::time::Duration;
 
 /// Child slot markers.
@@ -126,15 +126,7 @@ impl RayBoxes {
 
 impl WideBvh {
     pub fn build(prims: &Primitives) -> Self {
-        let n = prims.num_bounded();
-        let aabbs: Vec<Aabb> = (0..n)
-            .map(|i| {
-                let b = prims.prim_bounds(i);
-                let pad = 4.0 * f32::EPSILON * b.min.abs().max(b.max.abs())
-                    + Vec3A::splat(1e-6 * b.diagonal().max_element() + f32::MIN_POSITIVE);
-                Aabb::new(b.min - pad, b.max + pad)
-            })
-            .collect();
+        let aabbs = super::bvh::padded_prim_aabbs(prims);
         let mut out = WideBvh {
             nodes: vec![],
             leaves: vec![],
