@@ -12,7 +12,10 @@ use crate::common::{chi_square, render_ron, scene_path};
 use glam::{Vec2, Vec3, Vec3A};
 use prism::camera::CameraRig;
 use prism::components::{Camera, Projection};
-use prism::sampling::{PixelFilter, Rng, Sampler, SamplerKind, sobol_dim1_fast, sobol_dim1_reference};
+use prism::sampling::{
+    PixelFilter, Rng, Sampler, SamplerKind, nested_uniform_scramble, sobol_dim1_fast, sobol_dim1_reference,
+    sobol_owen_1d_reversed, sobol_owen_2d, sobol_owen_2d_reference,
+};
 use prism::settings::Overrides;
 
 fn sobol(key: u32) -> Sampler {
@@ -24,6 +27,19 @@ fn sobol_table_equals_the_bit_loop() {
     let mut rng = Rng::new(3, 3);
     for i in (0..4096).chain((0..4096).map(|_| rng.next_u32())) {
         assert_eq!(sobol_dim1_fast(i), sobol_dim1_reference(i), "index {i}");
+    }
+}
+
+/// The fast Sobol points (scrambled in the bit-reversed domain, three reversals per 2D point) are the points of
+/// the definition (nested uniform scrambles of the index and of each coordinate), bit for bit.
+#[test]
+fn sobol_points_in_the_reversed_domain_equal_the_definition() {
+    let mut rng = Rng::new(5, 5);
+    for _ in 0..20_000 {
+        let (i, seed, k) = (rng.next_u32() >> (rng.next_u32() % 32), rng.next_u32(), rng.next_u32());
+        assert_eq!(sobol_owen_2d(i, seed), sobol_owen_2d_reference(i, seed), "index {i} seed {seed}");
+        let one = nested_uniform_scramble(nested_uniform_scramble(i, k).reverse_bits(), seed);
+        assert_eq!(sobol_owen_1d_reversed(i.reverse_bits(), k, seed), one, "index {i} keys {k} {seed}");
     }
 }
 

@@ -19,7 +19,7 @@
 //!
 //! Everything is a pure function of (seed, pixel, sample index, dimension), so images do not depend on threads.
 
-use super::{Rng, nested_uniform_scramble, sobol_owen_2d};
+use super::{Rng, sobol_owen_1d_reversed, sobol_owen_2d_reversed};
 use glam::Vec2;
 
 /// Which sampler fills the dimensions of a sample.
@@ -74,6 +74,8 @@ pub struct Sampler {
     key: u32,
     /// Index of the current sample in the pixel's sequence.
     index: u32,
+    /// `index` bit-reversed (the Sobol scrambles work on reversed indices; reversed once per sample).
+    index_rev: u32,
     /// Next dimension.
     dim: u32,
     /// 2D requests so far in this sample (for `stratified`).
@@ -84,13 +86,14 @@ pub struct Sampler {
 impl Sampler {
     /// A sampler whose Sobol points are scrambled by `key` and whose independent numbers come from `rng`.
     pub fn new(kind: SamplerKind, key: u32, rng: Rng) -> Self {
-        Sampler { kind, key, index: 0, dim: 0, requests_2d: 0, rng }
+        Sampler { kind, key, index: 0, index_rev: 0, dim: 0, requests_2d: 0, rng }
     }
 
     /// Begin sample `index` of the sequence (dimension 0).
     #[inline]
     pub fn start(&mut self, index: u32) {
         self.index = index;
+        self.index_rev = index.reverse_bits();
         self.dim = 0;
         self.requests_2d = 0;
     }
@@ -135,9 +138,8 @@ impl Sampler {
         match self.kind {
             SamplerKind::Sobol => {
                 let k = self.dim_key(dim);
-                let i = nested_uniform_scramble(self.index, k);
-                // First Sobol dimension (van der Corput: the bit-reversed index), Owen-scrambled.
-                let x = nested_uniform_scramble(i.reverse_bits(), hash32(k ^ 0xa511_e9b3));
+                // First Sobol dimension (van der Corput) of the shuffled index, Owen-scrambled.
+                let x = sobol_owen_1d_reversed(self.index_rev, k, hash32(k ^ 0xa511_e9b3));
                 (x >> 8) as f32 * (1.0 / 16_777_216.0)
             }
             _ => self.rng.next_f32(),
@@ -152,9 +154,11 @@ impl Sampler {
         let request = self.requests_2d;
         self.requests_2d += 1;
         match self.kind {
-            SamplerKind::Sobol => sobol_owen_2d(self.index, self.dim_key(dim)),
+            SamplerKind::Sobol => sobol_owen_2d_reversed(self.index_rev, self.dim_key(dim)),
             // The first vertex's light and BSDF points (the first two 2D requests after the camera's).
-            SamplerKind::Stratified if (2..4).contains(&request) => sobol_owen_2d(self.index, self.dim_key(dim)),
+            SamplerKind::Stratified if (2..4).contains(&request) => {
+                sobol_owen_2d_reversed(self.index_rev, self.dim_key(dim))
+            }
             _ => self.rng.next_2d(),
         }
     }

@@ -35,8 +35,7 @@ const fn sobol_dim1_columns() -> [u32; 32] {
 
 /// The matrix product split by bytes of the index: `TABLE[j][b]` is the XOR of the columns `8j + k` for the set
 /// bits `k` of `b`, so a point costs four lookups instead of a loop over 32 bits.
-const fn sobol_dim1_table() -> [[u32; 256]; 4] {
-    let v = sobol_dim1_columns();
+const fn byte_tables(v: [u32; 32]) -> [[u32; 256]; 4] {
     let mut t = [[0u32; 256]; 4];
     let mut j = 0;
     while j < 4 {
@@ -58,16 +57,35 @@ const fn sobol_dim1_table() -> [[u32; 256]; 4] {
     t
 }
 
-static SOBOL_DIM1: [[u32; 256]; 4] = sobol_dim1_table();
+/// The columns of the second Sobol dimension conjugated by bit reversal: the map `r -> rev(sobol_dim1(rev(r)))`,
+/// whose column `k` is `rev(v_(31-k))`. The scrambles work on bit-reversed values, so with this table the
+/// sampler never reverses the index back and forth.
+const fn sobol_dim1_reversed_columns() -> [u32; 32] {
+    let v = sobol_dim1_columns();
+    let mut w = [0u32; 32];
+    let mut k = 0;
+    while k < 32 {
+        w[k] = v[31 - k].reverse_bits();
+        k += 1;
+    }
+    w
+}
 
-/// The second Sobol dimension of `i` (as 32-bit fixed point).
+static SOBOL_DIM1: [[u32; 256]; 4] = byte_tables(sobol_dim1_columns());
+static SOBOL_DIM1_REVERSED: [[u32; 256]; 4] = byte_tables(sobol_dim1_reversed_columns());
+
 #[inline]
-fn sobol_dim1(i: u32) -> u32 {
-    let t = &SOBOL_DIM1;
+fn apply(t: &[[u32; 256]; 4], i: u32) -> u32 {
     t[0][(i & 0xff) as usize]
         ^ t[1][((i >> 8) & 0xff) as usize]
         ^ t[2][((i >> 16) & 0xff) as usize]
         ^ t[3][(i >> 24) as usize]
+}
+
+/// The second Sobol dimension of `i` (as 32-bit fixed point).
+#[inline]
+fn sobol_dim1(i: u32) -> u32 {
+    apply(&SOBOL_DIM1, i)
 }
 
 /// The reference bit loop for [`sobol_dim1`] (tests compare the two).
@@ -101,9 +119,37 @@ fn hash32(mut x: u32) -> u32 {
 /// Point `index` of the scrambled 2D Sobol sequence selected by `seed`, in [0,1)^2.
 #[inline]
 pub fn sobol_owen_2d(index: u32, seed: u32) -> glam::Vec2 {
+    sobol_owen_2d_reversed(index.reverse_bits(), seed)
+}
+
+/// [`sobol_owen_2d`] of the index whose bit reversal is `index_rev` (a sampler reverses its index once per sample).
+/// The same point as [`sobol_owen_2d_reference`], computed in the bit-reversed domain where Laine-Karras
+/// scrambles act: three bit reversals instead of seven.
+#[inline]
+pub fn sobol_owen_2d_reversed(index_rev: u32, seed: u32) -> glam::Vec2 {
+    // The shuffled index, reversed (the nested scramble of the index without its final reversal).
+    let r = laine_karras(index_rev, hash32(seed));
+    let x = laine_karras(r.reverse_bits(), hash32(seed ^ 0x9e37_79b9)).reverse_bits();
+    let y = laine_karras(apply(&SOBOL_DIM1_REVERSED, r), hash32(seed ^ 0x85eb_ca6b)).reverse_bits();
+    const S: f32 = 1.0 / 16_777_216.0;
+    glam::Vec2::new((x >> 8) as f32 * S, (y >> 8) as f32 * S)
+}
+
+/// The definition [`sobol_owen_2d`] implements (tests compare the two): shuffle the index by a nested uniform
+/// scramble, take the first two Sobol dimensions of the shuffled index, and scramble each.
+pub fn sobol_owen_2d_reference(index: u32, seed: u32) -> glam::Vec2 {
     let i = nested_uniform_scramble(index, hash32(seed));
     let x = nested_uniform_scramble(i.reverse_bits(), hash32(seed ^ 0x9e37_79b9));
-    let y = nested_uniform_scramble(sobol_dim1(i), hash32(seed ^ 0x85eb_ca6b));
+    let y = nested_uniform_scramble(sobol_dim1_reference(i), hash32(seed ^ 0x85eb_ca6b));
     const S: f32 = 1.0 / 4_294_967_296.0;
     glam::Vec2::new((x >> 8) as f32 * (S * 256.0), (y >> 8) as f32 * (S * 256.0))
+}
+
+/// One scrambled van der Corput number (the first Sobol dimension) for the index whose bit reversal is
+/// `index_rev`: the index shuffled by the nested scramble keyed `shuffle`, then scrambled by `scramble`, as 32-bit
+/// fixed point. Equal to `nested_uniform_scramble(nested_uniform_scramble(index, shuffle).reverse_bits(),
+/// scramble)`.
+#[inline]
+pub fn sobol_owen_1d_reversed(index_rev: u32, shuffle: u32, scramble: u32) -> u32 {
+    laine_karras(laine_karras(index_rev, shuffle).reverse_bits(), scramble).reverse_bits()
 }
