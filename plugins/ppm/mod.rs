@@ -198,12 +198,11 @@ impl Ppm {
                 .unwrap_or_else(|| self.params.radius_pixels * scene.camera.pixel_footprint(vp.path_length.max(1e-30)))
         };
         self.radii.clear();
-        for (st, e) in self.stats.iter_mut().zip(&self.eye) {
-            if let Some(vp) = &e.vp {
-                st.init_radius(initial(vp));
-                self.radii.push(st.radius() as f32);
-            }
-        }
+        self.radii.par_extend(self.stats.par_iter_mut().zip(self.eye.par_iter()).filter_map(|(st, e)| {
+            let vp = e.vp.as_ref()?;
+            st.init_radius(initial(vp));
+            Some(st.radius() as f32)
+        }));
         let r_max = self.radii.iter().copied().fold(0.0f32, f32::max);
         if r_max > 0.0 {
             match self.params.lookup {
@@ -241,7 +240,7 @@ impl Ppm {
         let k = self.iterations.max(1) as f64;
         let direct_count = if fixed { 1.0 } else { k };
         let photons = k * self.photons_per_iteration as f64;
-        self.stats.iter().map(|s| s.estimate(direct_count, photons)).collect()
+        self.stats.par_iter().map(|s| s.estimate(direct_count, photons)).collect()
     }
 }
 

@@ -13,8 +13,9 @@ pub mod fixed;
 pub use file::{FilmFile, FilmHeader, ShardAxis, parse_film, read_film, write_film};
 pub use fixed::FixedRgb;
 
-use crate::integrator::{PassOutput, TileSamples};
+use crate::integrator::{PassOutput, TILE_SIZE, TileSamples};
 use glam::Vec3;
+use rayon::prelude::*;
 
 #[derive(Clone, Debug)]
 pub struct Film {
@@ -54,42 +55,76 @@ impl Film {
         (&self.sum, &self.count)
     }
 
-    /// True when row `y` belongs to this film.
-    #[inline]
-    fn covers_row(&self, y: u32) -> bool {
-        self.rows.is_none_or(|(k, n)| y % n == k)
+    /// Add one pass's tiles. The conversion to fixed point dominates (an f64 to i128 per channel), so bands of
+    /// `TILE_SIZE` rows are added in parallel, each band by one task from the tiles inside it; every pixel still
+    /// receives exactly the same additions, so the film does not depend on the thread count.
+    fn add_tiles(&mut self, tiles: &[TileSamples]) {
+        let (w, h) = (self.width, self.height);
+        let inside = |t: &TileSamples| {
+            t.tile.y0 % TILE_SIZE == 0
+                && t.tile.h <= TILE_SIZE
+                && t.tile.x0 + t.tile.w <= w
+                && t.tile.y0 + t.tile.h <= h
+                && t.sums.len() == (t.tile.w * t.tile.h) as usize
+        };
+        self.nonfinite += tiles.iter().map(|t| t.nonfinite as u64).sum::<u64>();
+        if w == 0 || !tiles.iter().all(inside) {
+            tiles.iter().for_each(|t| Self::add_tile(&mut self.sum, &mut self.count, w, 0, t));
+            return;
+        }
+        let mut bands: Vec<Vec<&TileSamples>> = vec![vec![]; h.div_ceil(TILE_SIZE) as usize];
+        for t in tiles {
+            bands[(t.tile.y0 / TILE_SIZE) as usize].push(t);
+        }
+        let band_len = (w * TILE_SIZE) as usize;
+        self.sum.par_chunks_mut(band_len).zip(self.count.par_chunks_mut(band_len)).zip(bands.par_iter()).for_each(
+            |((sum, count), band)| {
+                for t in band {
+                    Self::add_tile(sum, count, w, t.tile.y0, t);
+                }
+            },
+        );
     }
 
-    fn add_tile(&mut self, t: &TileSamples) {
+    /// Add tile `t` to the rows of `sum`/`count` that start at image row `first_row`.
+    fn add_tile(sum: &mut [FixedRgb], count: &mut [u64], width: u32, first_row: u32, t: &TileSamples) {
         for y in 0..t.tile.h {
             for x in 0..t.tile.w {
-                let i = ((t.tile.y0 + y) * self.width + t.tile.x0 + x) as usize;
+                let i = ((t.tile.y0 + y - first_row) * width + t.tile.x0 + x) as usize;
                 let s = t.sums[(y * t.tile.w + x) as usize];
-                self.sum[i].add(FixedRgb::from_rgb(s.x as f64, s.y as f64, s.z as f64));
-                self.count[i] += t.spp as u64;
+                sum[i].add(FixedRgb::from_rgb(s.x as f64, s.y as f64, s.z as f64));
+                count[i] += t.spp as u64;
             }
         }
-        self.nonfinite += t.nonfinite as u64;
     }
 
     /// Replace the content by a whole-image estimate (each covered pixel counts as one sample).
     pub fn set_estimate(&mut self, image: &[Vec3]) {
-        for (i, v) in image.iter().enumerate() {
-            let y = i as u32 / self.width.max(1);
-            if !self.covers_row(y) {
-                continue;
-            }
-            let v = if v.is_finite() { *v } else { Vec3::ZERO };
-            self.sum[i] = FixedRgb::from_rgb(v.x as f64, v.y as f64, v.z as f64);
-            self.count[i] = 1;
-        }
+        let w = self.width.max(1) as usize;
+        let rows = self.rows;
+        let n = image.len().min(self.sum.len());
+        self.sum[..n]
+            .par_chunks_mut(w)
+            .zip(self.count[..n].par_chunks_mut(w))
+            .zip(image[..n].par_chunks(w))
+            .enumerate()
+            .for_each(|(y, ((sum, count), row))| {
+                if rows.is_some_and(|(k, n)| y as u32 % n != k) {
+                    return;
+                }
+                for ((s, c), v) in sum.iter_mut().zip(count.iter_mut()).zip(row) {
+                    let v = if v.is_finite() { *v } else { Vec3::ZERO };
+                    *s = FixedRgb::from_rgb(v.x as f64, v.y as f64, v.z as f64);
+                    *c = 1;
+                }
+            });
     }
 
     /// Add a pass: committed when `complete`, otherwise kept apart as the visible part of an unfinished pass.
     pub fn merge(&mut self, out: &PassOutput, complete: bool) {
         self.partial.clear();
         match out {
-            PassOutput::Samples(tiles) if complete => tiles.iter().for_each(|t| self.add_tile(t)),
+            PassOutput::Samples(tiles) if complete => self.add_tiles(tiles),
             PassOutput::Samples(tiles) => self.partial = tiles.clone(),
             // An estimate of an unfinished pass is the last complete one's (the integrator keeps it so).
             PassOutput::Estimate { image, .. } => self.set_estimate(image),
