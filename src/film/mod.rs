@@ -61,7 +61,7 @@ impl Film {
     fn add_tiles(&mut self, tiles: &[TileSamples]) {
         let (w, h) = (self.width, self.height);
         let inside = |t: &TileSamples| {
-            t.tile.y0 % TILE_SIZE == 0
+            t.tile.y0.is_multiple_of(TILE_SIZE)
                 && t.tile.h <= TILE_SIZE
                 && t.tile.x0 + t.tile.w <= w
                 && t.tile.y0 + t.tile.h <= h
