@@ -327,3 +327,27 @@ fn bad_environment_light_settings_are_rejected() {
         assert!(!err.contains("panicked"));
     }
 }
+
+/// Russian roulette and refraction: radiance crossing into glass is scaled by 1/eta^2 and restored on the way out,
+/// so a path inside a glass sphere is not a dimmer path. A clear sphere (ior 1.5) in a white furnace (uniform sky
+/// of radiance 1) is exactly 1 everywhere; with roulette from the first vertex, survival must undo the 1/eta^2
+/// (Mitsuba's rule, q = min(max(beta) eta^2, 0.95)). Then every roulette survives with 0.95 and a path with n of
+/// them has per-sample variance (1/0.95)^n - 1 (< 0.36 for n <= 6); judging by beta alone would survive with
+/// 0.44 inside the glass and give (1/0.95)(1/0.44) - 1 = 1.37 or more for every path that enters it.
+#[test]
+fn roulette_inside_glass_undoes_the_radiance_scaling_of_refraction() {
+    let scene = "(camera: (eye: (0, 0, 4), target: (0, 0, 0), up: (0, 1, 0), fov: 40, size: (64, 64)),
+        render: (integrator: envlight(max_depth: -1, rr_depth: 1), sampler: independent),
+        materials: {\"glass\": Glass(ior: 1.5)},
+        entities: [(shape: Sphere(), material: \"glass\"), (light: Environment(radiance: (1, 1, 1)))])";
+    let n = 16u32;
+    let img = render_ron(scene, spp(n));
+    let (on, _) = furnace_masks(img.width);
+    let values: Vec<f64> = on.iter().map(|&i| img.pixels[i].y as f64).collect();
+    let mean = values.iter().sum::<f64>() / values.len() as f64;
+    // Per-sample variance from the spread of per-pixel means of n samples each.
+    let var = values.iter().map(|v| (v - 1.0).powi(2)).sum::<f64>() / values.len() as f64 * n as f64;
+    let se = (var / n as f64 / values.len() as f64).sqrt();
+    assert!((mean - 1.0).abs() < 4.0 * se + 1e-3, "sphere mean {mean} (exact 1, standard error {se})");
+    assert!(var < 0.5, "per-sample variance {var}: roulette kills paths inside the glass (beta-only rule: > 1.37)");
+}

@@ -75,6 +75,8 @@ impl PixelIntegrator for PathTracer {
         let mut beta = Vec3::ONE;
         let mut prev: Option<Prev> = None;
         let mut depth: i32 = 0;
+        // Product of eta^2 over the refractions so far (1 again once a path has left every dielectric).
+        let mut eta2 = 1.0f32;
         loop {
             let Some(s) = scene.trace(&ray) else {
                 if let Some(env) = &scene.lights.environment {
@@ -114,13 +116,16 @@ impl PixelIntegrator for PathTracer {
             }
             let Some(bs) = bsdf.sample(u_lobe, u_bsdf) else { break };
             beta *= bs.weight;
+            eta2 *= bs.eta * bs.eta;
             if beta.max_element() <= 0.0 {
                 break;
             }
             prev = Some(Prev { p: s.p, n: bsdf.normal(), pdf: bs.pdf, delta: bs.delta });
             depth += 1;
             if depth >= self.params.rr_depth {
-                let q = beta.max_element().min(0.95);
+                // Survival by throughput with the radiance scaling of refractions undone (Mitsuba's rule): a path
+                // inside glass carries 1/eta^2 that its exit restores, so it is not a dimmer path.
+                let q = (beta.max_element() * eta2).min(0.95);
                 if u_rr >= q {
                     break;
                 }

@@ -102,6 +102,16 @@ impl Lobe {
         }
     }
 
+    /// The relative index of refraction (transmitted side over `wo`'s) a refraction through this lobe crosses,
+    /// for lobes whose radiance transmission is scaled by `1/eta^2` (smooth and rough dielectrics); 1 otherwise.
+    #[inline]
+    pub fn radiance_eta(&self) -> f32 {
+        match self {
+            Lobe::Dielectric { eta, .. } | Lobe::RoughDielectric { eta, .. } => *eta,
+            _ => 1.0,
+        }
+    }
+
     /// The lobe times `w` (a blend weight).
     pub fn scaled(self, w: f32) -> Lobe {
         match self {

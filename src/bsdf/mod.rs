@@ -46,6 +46,10 @@ pub struct BsdfSample {
     /// Mixture pdf of the smooth lobes in solid angle (0 for delta samples).
     pub pdf: f32,
     pub delta: bool,
+    /// The relative index of refraction crossed (transmitted side over `wo`'s) when the sample refracted through
+    /// a dielectric, 1 otherwise: radiance weights carry `1/eta^2`, which Russian roulette undoes (as Mitsuba's
+    /// path tracer does) so a path inside glass is not killed for a factor that cancels on the way out.
+    pub eta: f32,
 }
 
 /// One branch of a delta lobe for Whitted recursion: direction, throughput, and the lobe's colour (`filter`,
@@ -333,7 +337,7 @@ impl Bsdf {
                 return None;
             }
             let weight = albedo * self.correction(wi, mode);
-            return Some(BsdfSample { wi, weight, pdf, delta: false });
+            return Some(BsdfSample { wi, weight, pdf, delta: false, eta: 1.0 });
         }
         let i = self.cdf[..self.len].iter().position(|&c| u_lobe < c).unwrap_or(self.len - 1);
         let p = self.lobe_probability(i);
@@ -347,7 +351,8 @@ impl Bsdf {
         }
         if lobe.is_delta() {
             let weight = s.weight * (self.correction(wi, mode) / p);
-            return Some(BsdfSample { wi, weight, pdf: 0.0, delta: true });
+            let eta = if s.wi.z * self.wo_local.z < 0.0 { lobe.radiance_eta() } else { 1.0 };
+            return Some(BsdfSample { wi, weight, pdf: 0.0, delta: true, eta });
         }
         let pdf = self.pdf_local(s.wi);
         if pdf <= 0.0 || !pdf.is_finite() {
@@ -358,7 +363,8 @@ impl Bsdf {
         if !weight.is_finite() {
             return None;
         }
-        Some(BsdfSample { wi, weight, pdf, delta: false })
+        let eta = if s.wi.z * self.wo_local.z < 0.0 { lobe.radiance_eta() } else { 1.0 };
+        Some(BsdfSample { wi, weight, pdf, delta: false, eta })
     }
 
     /// Every branch of the delta lobes, in lobe order (radiance): mirror reflection, Fresnel reflection and
