@@ -3,7 +3,7 @@
 //! weights multiplied in. Called once per shading point; no allocation.
 
 use super::normal_map::{BUMP_DELTA, bump_normal, normal_map_normal, tangent_frame};
-use super::{ConductorSpec, Material, MaterialKind, Shading};
+use super::{ConductorSpec, Material, MaterialKind, PhongParams, Shading};
 use crate::bsdf::{Bsdf, ConductorFresnel, Lobe};
 use crate::math::Frame;
 use crate::primitives::{Primitives, SurfaceHit};
@@ -62,8 +62,27 @@ pub fn bsdf(
     };
     let mut bsdf = Bsdf::new(Frame::from_normal(ns), ng, wo);
     let side = Side { front, two_sided };
+    if let MaterialKind::Phong(p) = &top.kind
+        && let Some(albedo) = plain_lambert(p)
+    {
+        // The common case (every wall of a Cornell box): one constant Lambertian lobe, no texture lookups.
+        if side.shades(top) && albedo != glam::Vec3::ZERO {
+            bsdf.push(Lobe::Diffuse { albedo });
+        }
+        return if bsdf.prepare() { Some(bsdf) } else { None };
+    }
     push_lobes(materials, textures, top, &at, side, 1.0, &mut bsdf);
     if bsdf.prepare() { Some(bsdf) } else { None }
+}
+
+/// The albedo of a Phong-family material that is only a constant Lambertian lobe.
+#[inline(always)]
+fn plain_lambert(p: &PhongParams) -> Option<glam::Vec3> {
+    if p.ambient.is_zero() && p.specular.is_zero() && p.reflective.is_zero() && p.transparent.is_zero() {
+        p.diffuse.constant()
+    } else {
+        None
+    }
 }
 
 #[derive(Clone, Copy)]
