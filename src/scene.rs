@@ -106,6 +106,13 @@ impl Scene {
         crate::material::bsdf(&self.materials, &self.textures, &self.prims, s, wo, None)
     }
 
+    /// [`Scene::bsdf`] written into `out` (reusing its storage); false when the surface reflects nothing towards
+    /// `wo`. For path loops: one `Bsdf` per path instead of one moved out of every hit.
+    #[inline(always)]
+    pub fn bsdf_into(&self, s: &SurfaceHit, wo: Vec3A, out: &mut Bsdf) -> bool {
+        crate::material::bsdf_into(&self.materials, &self.textures, &self.prims, s, wo, None, out)
+    }
+
     /// [`Scene::bsdf`] with every material's sidedness overridden when `two_sided` is given (6.837 `-shade_back`).
     #[inline]
     pub fn bsdf_sided(&self, s: &SurfaceHit, wo: Vec3A, two_sided: Option<bool>) -> Option<Bsdf> {

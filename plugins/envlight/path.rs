@@ -77,6 +77,8 @@ impl PixelIntegrator for PathTracer {
         let mut depth: i32 = 0;
         // Product of eta^2 over the refractions so far (1 again once a path has left every dielectric).
         let mut eta2 = 1.0f32;
+        // One BSDF for the whole path, rebuilt in place at every hit.
+        let mut bsdf = Bsdf::new(crate::math::Frame::from_normal(Vec3A::Z), Vec3A::Z, Vec3A::Z);
         loop {
             let Some(s) = scene.trace(&ray) else {
                 if let Some(env) = &scene.lights.environment {
@@ -107,7 +109,9 @@ impl PixelIntegrator for PathTracer {
             if max_depth >= 0 && depth + 1 >= max_depth {
                 break;
             }
-            let Some(bsdf) = scene.bsdf(&s, wo) else { break };
+            if !scene.bsdf_into(&s, wo, &mut bsdf) {
+                break;
+            }
             let (u_choice, u_light) = (sampler.next_1d(), sampler.next_2d());
             let (u_lobe, u_bsdf) = (sampler.next_1d(), sampler.next_2d());
             let u_rr = sampler.next_1d();

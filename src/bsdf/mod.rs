@@ -96,6 +96,18 @@ impl Bsdf {
         }
     }
 
+    /// Start over (no lobes, no ambient term) at another surface, keeping the storage: [`Bsdf::new`] in place.
+    #[inline(always)]
+    pub fn reset(&mut self, frame: Frame, ng: Vec3A, wo: Vec3A) {
+        self.frame = frame;
+        self.ng = ng;
+        self.wo = wo;
+        self.wo_local = frame.to_local(wo);
+        self.len = 0;
+        self.smooth = false;
+        self.ambient = Vec3::ZERO;
+    }
+
     /// A BSDF of the given lobes at a surface with normal `n` (shading = geometric) seen from `wo` (for tests and
     /// tools; materials build theirs with [`Bsdf::new`] and [`Bsdf::push`]).
     pub fn from_lobes(n: Vec3A, wo: Vec3A, lobes: &[Lobe]) -> Option<Self> {

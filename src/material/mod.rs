@@ -21,7 +21,7 @@ mod normal_map;
 mod resolve;
 
 pub use normal_map::{bump_normal, normal_map_normal, tangent_frame};
-pub use resolve::bsdf;
+pub use resolve::{bsdf, bsdf_into};
 
 use crate::bsdf::MAX_LOBES;
 use crate::texture::{ColorParam, ScalarParam};

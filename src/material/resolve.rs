@@ -25,6 +25,22 @@ pub fn bsdf(
     wo: Vec3A,
     two_sided: Option<bool>,
 ) -> Option<Bsdf> {
+    let mut out = Bsdf::new(Frame::from_normal(s.ng), s.ng, wo);
+    bsdf_into(materials, textures, prims, s, wo, two_sided, &mut out).then_some(out)
+}
+
+/// [`bsdf`] written into `out` (its previous lobes are discarded), so a path loop reuses one `Bsdf` instead of
+/// moving a new one out of every hit; false when the surface neither scatters nor has an ambient term.
+#[inline(always)]
+pub fn bsdf_into(
+    materials: &[Material],
+    textures: &TextureSet,
+    prims: &Primitives,
+    s: &SurfaceHit,
+    wo: Vec3A,
+    two_sided: Option<bool>,
+    out: &mut Bsdf,
+) -> bool {
     let m = &materials[s.material as usize];
     let front = wo.dot(s.ng) >= 0.0;
     let at = TexPoint { uv: s.uv, p: s.p };
@@ -60,7 +76,8 @@ pub fn bsdf(
             m
         }
     };
-    let mut bsdf = Bsdf::new(Frame::from_normal(ns), ng, wo);
+    let bsdf = out;
+    bsdf.reset(Frame::from_normal(ns), ng, wo);
     let side = Side { front, two_sided };
     if let MaterialKind::Phong(p) = &top.kind
         && let Some(albedo) = plain_lambert(p)
@@ -69,10 +86,10 @@ pub fn bsdf(
         if side.shades(top) && albedo != glam::Vec3::ZERO {
             bsdf.push(Lobe::Diffuse { albedo });
         }
-        return if bsdf.prepare() { Some(bsdf) } else { None };
+        return bsdf.prepare();
     }
-    push_lobes(materials, textures, top, &at, side, 1.0, &mut bsdf);
-    if bsdf.prepare() { Some(bsdf) } else { None }
+    push_lobes(materials, textures, top, &at, side, 1.0, bsdf);
+    bsdf.prepare()
 }
 
 /// The albedo of a Phong-family material that is only a constant Lambertian lobe.
