@@ -108,6 +108,21 @@ impl Bsdf {
         self.ambient = Vec3::ZERO;
     }
 
+    /// Make the BSDF one Lambertian lobe of `albedo` (after [`Bsdf::reset`]): what `push` and `prepare` give for
+    /// it, without the general lobe selection. False when it reflects nothing (and there is no ambient term).
+    #[inline(always)]
+    pub fn set_lambert(&mut self, albedo: Vec3) -> bool {
+        if crate::math::luminance(albedo) > 0.0 {
+            self.lobes[0] = Lobe::Diffuse { albedo };
+            self.cdf[0] = 1.0;
+            self.len = 1;
+            self.smooth = true;
+            return true;
+        }
+        self.len = 0;
+        self.ambient != Vec3::ZERO
+    }
+
     /// A BSDF of the given lobes at a surface with normal `n` (shading = geometric) seen from `wo` (for tests and
     /// tools; materials build theirs with [`Bsdf::new`] and [`Bsdf::push`]).
     pub fn from_lobes(n: Vec3A, wo: Vec3A, lobes: &[Lobe]) -> Option<Self> {

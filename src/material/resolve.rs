@@ -83,10 +83,7 @@ pub fn bsdf_into(
         && let Some(albedo) = plain_lambert(p)
     {
         // The common case (every wall of a Cornell box): one constant Lambertian lobe, no texture lookups.
-        if side.shades(top) && albedo != glam::Vec3::ZERO {
-            bsdf.push(Lobe::Diffuse { albedo });
-        }
-        return bsdf.prepare();
+        return side.shades(top) && bsdf.set_lambert(albedo);
     }
     push_lobes(materials, textures, top, &at, side, 1.0, bsdf);
     bsdf.prepare()
