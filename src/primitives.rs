@@ -139,14 +139,14 @@ impl SurfaceHit {
     /// A ray leaving this point in unit direction `dir`, offset off the surface.
     #[inline]
     pub fn spawn(&self, dir: Vec3A) -> Ray {
-        spawn_ray(self.p, self.p_err, self.ng, dir)
+        spawn_ray(self.p, self.p_err, self.ng, dir).leaving(self.prim)
     }
 
     /// A shadow ray from this point to a light sample (both ends offset off their surfaces).
     #[inline]
     pub fn spawn_to(&self, ls: &LightSample) -> Ray {
         if ls.dist.is_finite() {
-            spawn_ray_to(self.p, self.p_err, self.ng, ls.p, ls.p_err, ls.n)
+            spawn_ray_to(self.p, self.p_err, self.ng, ls.p, ls.p_err, ls.n).leaving(self.prim)
         } else {
             self.spawn(ls.wi)
         }

@@ -73,7 +73,7 @@ impl Scene {
                 return None;
             }
             t0 = dt;
-            r = Ray { origin: next.origin, dir: ray.dir, tmax: ray.tmax - t0 };
+            r = Ray { origin: next.origin, dir: ray.dir, tmax: ray.tmax - t0, leaves: next.leaves };
         }
         None
     }

@@ -8,7 +8,7 @@ use crate::common::{app_from_file, app_from_ron, data};
 use glam::Vec3A;
 use prism::accel::ray_sets::{camera_rays, secondary_rays};
 use prism::accel::{Accel, KdTree, TraversalWork, UniformGrid};
-use prism::geometry::{Ray, WatertightRay};
+use prism::geometry::{NO_PRIM, Ray, WatertightRay};
 use prism::primitives::Hit;
 use prism::sampling::{Rng, warp};
 use prism::scene::Scene;
@@ -179,6 +179,50 @@ fn every_accelerator_matches_brute_force_on_the_stanford_bunny_with_spheres_elli
         let app = setup_ron(&text, kind);
         let hits = assert_matches_brute("bunny", scene(&app), truth, &rays);
         assert!(hits > 8_000, "too few rays hit anything ({hits}): the test would be weak");
+    }
+}
+
+/// A ray spawned from a triangle cannot meet that triangle again (a plane), so `Ray::leaves` lets the BVH skip
+/// its test: with the hint or without, every accelerator's answer is the same, and equals brute force, for
+/// bounce and shadow rays spawned from hits on the bunny (triangles), spheres and an ellipsoid.
+#[test]
+fn skipping_the_triangle_a_ray_leaves_never_changes_the_answer() {
+    let truth_app = setup_ron(&bunny_scene_text(), AccelKind::Brute);
+    let truth = scene(&truth_app);
+    let mut rng = Rng::new(23, 0);
+    let mut spawned = vec![];
+    for r in rays(truth, 3000, 11) {
+        let Some(s) = truth.trace(&r) else { continue };
+        let n = if s.ng.dot(r.dir) < 0.0 { s.ng } else { -s.ng };
+        let mut d = warp::uniform_sphere(rng.next_2d());
+        if d.dot(n) < 0.0 {
+            d = -d;
+        }
+        spawned.push(s.spawn(d));
+        // Into the surface too (refraction-like), and a shadow ray to a random point.
+        spawned.push(s.spawn(-d));
+        let b = truth.prims.bounds;
+        let q = b.min + b.diagonal() * Vec3A::new(rng.next_f32(), rng.next_f32(), rng.next_f32());
+        let mut sh = s.spawn((q - s.p).normalize_or(Vec3A::X));
+        sh.tmax = (q - s.p).length();
+        spawned.push(sh);
+    }
+    assert!(spawned.iter().filter(|r| r.leaves != NO_PRIM).count() > 3000, "too few spawned rays");
+    let brute: Vec<Option<Hit>> = spawned.par_iter().map(|r| truth.intersect(&r.leaving(NO_PRIM))).collect();
+    for kind in accelerators() {
+        let app = setup_ron(&bunny_scene_text(), kind);
+        let sc = scene(&app);
+        spawned.par_iter().zip(&brute).enumerate().for_each(|(i, (r, &expected))| {
+            let plain = r.leaving(NO_PRIM);
+            let (a, b) = (sc.intersect(r), sc.intersect(&plain));
+            assert_eq!(
+                a.map(|h| (h.prim, h.t.to_bits())),
+                b.map(|h| (h.prim, h.t.to_bits())),
+                "{kind:?}: ray {i} {r:?}: the hint changed the closest hit"
+            );
+            assert_eq!(sc.occluded(r), sc.occluded(&plain), "{kind:?}: ray {i}: the hint changed occlusion");
+            assert!(same_hit(truth, r, a, expected), "{kind:?}: ray {i}: differs from brute force");
+        });
     }
 }
 

@@ -1,9 +1,10 @@
 //! Reproducible ray sets for measuring accelerators (`prism bench`, `benches/accel.rs`): camera rays through
 //! every pixel centre, and the secondary rays a path tracer would trace from their hits: a diffuse bounce
 //! (uniform direction in the hemisphere on the camera's side of the surface) and a shadow ray towards a random
-//! point of the scene's bounds (finite `tmax`, for occlusion queries).
+//! point of the scene's bounds (finite `tmax`, for occlusion queries). The secondary rays do not carry
+//! [`Ray::leaves`] (the triangle they start on), so every accelerator and peer answers the same information.
 
-use crate::geometry::Ray;
+use crate::geometry::{NO_PRIM, Ray};
 use crate::sampling::{Rng, warp};
 use crate::scene::Scene;
 use glam::{Vec2, Vec3A};
@@ -35,13 +36,14 @@ pub fn secondary_rays(scene: &Scene, primary: &[Ray], seed: u64) -> (Vec<Ray>, V
         if d.dot(n) < 0.0 {
             d = -d;
         }
-        bounce.push(s.spawn(d));
+        // Without the `leaves` hint: the rays carry exactly what an exported ray file gives a peer (Embree).
+        bounce.push(s.spawn(d).leaving(NO_PRIM));
         if !b.is_empty() {
             let target = b.min + b.diagonal() * Vec3A::new(rng.next_f32(), rng.next_f32(), rng.next_f32());
             let to = target - s.p;
             if to.dot(n) > 0.0 && to.length_squared() > 0.0 {
                 let dist = to.length();
-                let mut ray = s.spawn(to / dist);
+                let mut ray = s.spawn(to / dist).leaving(NO_PRIM);
                 ray.tmax = dist;
                 shadow.push(ray);
             }

@@ -281,6 +281,10 @@ impl WideBvh {
             while candidates != 0 {
                 let lane = candidates.trailing_zeros() as usize;
                 candidates &= candidates - 1;
+                if p.ids[lane] == ray.leaves {
+                    // The triangle the ray leaves cannot be hit again (see `Ray::leaves`): no exact test.
+                    continue;
+                }
                 if let Some(h) = wt.intersect_soa(&p.tris.lane(lane), *end) {
                     *end = h.t;
                     *best = Some(Hit { t: h.t, prim: p.ids[lane], b1: h.b1, b2: h.b2 });

@@ -13,7 +13,7 @@ mod triangle_packet;
 pub use bounds::Bounds;
 pub use offset::{gamma, offset_ray_origin, spawn_ray, spawn_ray_to};
 pub use plane::intersect_plane;
-pub use ray::Ray;
+pub use ray::{NO_PRIM, Ray};
 pub use sphere::intersect_sphere;
 pub use triangle::{TriSoa, TriangleHit, WatertightRay};
 pub use triangle_packet::TriPacket;
