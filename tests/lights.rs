@@ -264,3 +264,43 @@ fn bad_spot_lights_are_clear_errors() {
         assert!(err.contains(needle) && err.contains("spot"), "{light}: {err}");
     }
 }
+
+/// A quad light (two triangles forming a parallelogram) is sampled as `o + u e1 + v e2`: every point lies on the
+/// quad (within its error bound) and inside it, the points are uniform over its area (chi-square on an 8 x 8 grid
+/// of the quad), a stratified grid of `u` lands one point per cell (the map keeps the sampler's strata), and the
+/// solid-angle pdf is `dist^2 / (cos A)`.
+#[test]
+fn quad_light_points_are_uniform_on_the_quad_and_keep_the_strata() {
+    let (lights, prims) = lights_of(&format!("(camera: (), entities: [{QUAD}, light: Area(radiance: (1, 1, 1)))])"));
+    // The quad: x in [-0.3, 0.3], z in [-0.2, 0.2] at y = 1, facing -y; seen from below.
+    let p = Vec3A::new(0.05, -0.5, 0.02);
+    let cell = |q: Vec3A| {
+        let (fx, fz) = ((q.x + 0.3) / 0.6, (q.z + 0.2) / 0.4);
+        assert!((-1e-6..=1.0 + 1e-6).contains(&fx) && (-1e-6..=1.0 + 1e-6).contains(&fz), "point {q} off the quad");
+        ((fx * 8.0).clamp(0.0, 7.0) as usize, (fz * 8.0).clamp(0.0, 7.0) as usize)
+    };
+    let mut rng = Rng::new(4, 4);
+    let mut counts = vec![0f64; 64];
+    let n = 64_000;
+    for _ in 0..n {
+        let ls = lights.sample_li(0, &prims, p, rng.next_2d()).expect("the quad faces p");
+        assert!((ls.p.y - 1.0).abs() <= ls.p_err.y + 1e-7, "point {} off the plane (error bound {})", ls.p, ls.p_err);
+        let d2 = (ls.p - p).length_squared();
+        let pdf = d2 / (ls.wi.dot(Vec3A::NEG_Y).abs() * 0.24);
+        assert!((ls.pdf - pdf).abs() <= 1e-3 * pdf, "pdf {} expected {pdf}", ls.pdf);
+        let (i, j) = cell(ls.p);
+        counts[j * 8 + i] += 1.0;
+    }
+    let (_, _, p_value) = crate::common::chi_square(&counts, &vec![n as f64 / 64.0; 64]);
+    assert!(p_value > 1e-4, "points not uniform over the quad: p = {p_value}");
+    // A stratified 8 x 8 grid of u: one point in every cell of the quad.
+    let mut seen = vec![0; 64];
+    for j in 0..8 {
+        for i in 0..8 {
+            let u = Vec2::new((i as f32 + 0.5) / 8.0, (j as f32 + 0.5) / 8.0);
+            let (ci, cj) = cell(lights.sample_li(0, &prims, p, u).unwrap().p);
+            seen[cj * 8 + ci] += 1;
+        }
+    }
+    assert!(seen.iter().all(|&c| c == 1), "strata not kept: {seen:?}");
+}
