@@ -317,3 +317,30 @@ fn dof_scene_matches_mitsubas_thin_lens_reference() {
         assert!((1.6..3.5).contains(&ratio), "RMSE ratio {ratio:.2} between {rmse:?}");
     }
 }
+
+/// A deferred dimension's number is the one `next_1d` gives at that point of the sequence, whether or not the
+/// numbers deferred before it were ever computed (so an estimator that skips unused numbers renders the same
+/// image bit for bit), for every sampler.
+#[test]
+fn deferred_dimensions_give_the_numbers_next_1d_would() {
+    for kind in [SamplerKind::Sobol, SamplerKind::Stratified, SamplerKind::Independent] {
+        for index in [0u32, 1, 7, 1000] {
+            let mut eager = Sampler::new(kind, 0x1234_5678, Rng::new(9, 9));
+            let mut lazy = Sampler::new(kind, 0x1234_5678, Rng::new(9, 9));
+            eager.start(index);
+            lazy.start(index);
+            for v in 0..6 {
+                let e = (eager.next_1d(), eager.next_2d(), eager.next_1d(), eager.next_1d());
+                let (a, b, c, d) = (lazy.defer_1d(), lazy.next_2d(), lazy.defer_1d(), lazy.defer_1d());
+                // Use only some of them, in another order.
+                if v % 2 == 0 {
+                    assert_eq!(lazy.get_1d(c), e.2, "{kind:?} index {index} vertex {v}");
+                }
+                assert_eq!(lazy.get_1d(d), e.3, "{kind:?} index {index} vertex {v}");
+                assert_eq!(lazy.get_1d(a), e.0, "{kind:?} index {index} vertex {v}");
+                assert_eq!(b, e.1, "{kind:?} index {index} vertex {v}");
+            }
+            assert_eq!(eager.dimension(), lazy.dimension());
+        }
+    }
+}

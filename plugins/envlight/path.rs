@@ -112,13 +112,16 @@ impl PixelIntegrator for PathTracer {
             if !scene.bsdf_into(&s, wo, &mut bsdf) {
                 break;
             }
-            let (u_choice, u_light) = (sampler.next_1d(), sampler.next_2d());
-            let (u_lobe, u_bsdf) = (sampler.next_1d(), sampler.next_2d());
-            let u_rr = sampler.next_1d();
+            // The vertex's dimensions in their fixed order; the 1D numbers are computed only if used.
+            let (u_choice, u_light) = (sampler.defer_1d(), sampler.next_2d());
+            let (u_lobe, u_bsdf) = (sampler.defer_1d(), sampler.next_2d());
+            let u_rr = sampler.defer_1d();
             if bsdf.has_smooth() && !self.lights.is_empty() {
-                l += beta * self.sample_light(scene, &s, &bsdf, u_choice, u_light);
+                let uc = if self.lights.uses_choice_number() { sampler.get_1d(u_choice) } else { 0.0 };
+                l += beta * self.sample_light(scene, &s, &bsdf, uc, u_light);
             }
-            let Some(bs) = bsdf.sample(u_lobe, u_bsdf) else { break };
+            let ul = if bsdf.uses_lobe_number() { sampler.get_1d(u_lobe) } else { 0.0 };
+            let Some(bs) = bsdf.sample(ul, u_bsdf) else { break };
             beta *= bs.weight;
             eta2 *= bs.eta * bs.eta;
             if beta.max_element() <= 0.0 {
@@ -130,7 +133,7 @@ impl PixelIntegrator for PathTracer {
                 // Survival by throughput with the radiance scaling of refractions undone (Mitsuba's rule): a path
                 // inside glass carries 1/eta^2 that its exit restores, so it is not a dimmer path.
                 let q = (beta.max_element() * eta2).min(0.95);
-                if u_rr >= q {
+                if sampler.get_1d(u_rr) >= q {
                     break;
                 }
                 beta /= q;

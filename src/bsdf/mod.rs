@@ -197,6 +197,19 @@ impl Bsdf {
         true
     }
 
+    /// True when [`Bsdf::sample`] reads its lobe number `u_lobe`: several lobes to choose from, or one that splits
+    /// by it (reflection or refraction of a dielectric, coat or base of plastic). Estimators may skip drawing it
+    /// otherwise.
+    #[inline]
+    pub fn uses_lobe_number(&self) -> bool {
+        self.len > 1
+            || (self.len == 1
+                && matches!(
+                    self.lobes[0],
+                    Lobe::Dielectric { .. } | Lobe::RoughDielectric { .. } | Lobe::Plastic { .. }
+                ))
+    }
+
     /// Shading normal facing `wo`.
     #[inline]
     pub fn normal(&self) -> Vec3A {

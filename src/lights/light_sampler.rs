@@ -28,6 +28,12 @@ impl LightSampler {
         self.choice.is_empty()
     }
 
+    /// True when `sample_li` reads its light-choice number (more than one light, counting the environment).
+    #[inline]
+    pub fn uses_choice_number(&self) -> bool {
+        self.choice.len() > 1
+    }
+
     /// True when some light emits (non-zero total power).
     pub fn has_power(&self) -> bool {
         self.choice.has_power

@@ -15,7 +15,7 @@ pub use filter::{MAX_FILTER_RADIUS, PixelFilter};
 pub use pattern::PixelPattern;
 pub use permute::permute;
 pub use rng::{Rng, hash_u64};
-pub use sampler::{CAMERA_DIMENSIONS, Sampler, SamplerKind};
+pub use sampler::{CAMERA_DIMENSIONS, Deferred1d, Sampler, SamplerKind};
 pub use sobol::{
     nested_uniform_scramble, sobol_dim1_fast, sobol_dim1_reference, sobol_owen_1d_reversed, sobol_owen_2d,
     sobol_owen_2d_reference, sobol_owen_2d_reversed,

@@ -53,6 +53,18 @@ impl SamplerKind {
     pub const NAMES: &'static str = "independent, stratified or sobol";
 }
 
+/// A dimension reserved by [`Sampler::defer_1d`]: its number is computed on demand.
+#[derive(Clone, Copy, Debug)]
+pub struct Deferred1d(DeferredValue);
+
+#[derive(Clone, Copy, Debug)]
+enum DeferredValue {
+    /// A Sobol dimension, computed when asked.
+    Dim(u32),
+    /// A number drawn when the dimension was reserved.
+    Value(f32),
+}
+
 /// Dimensions PerPixel uses before the integrator's: the pixel position (0-1) and the lens (2-3).
 pub const CAMERA_DIMENSIONS: u32 = 4;
 
@@ -130,19 +142,48 @@ impl Sampler {
         hash32(self.key ^ dim.wrapping_mul(0x9E37_79B9).wrapping_add(0x632B_E5AB))
     }
 
+    /// The Sobol sampler's number at dimension `dim` of the current sample.
+    #[inline]
+    fn sobol_1d_at(&self, dim: u32) -> f32 {
+        let k = self.dim_key(dim);
+        // First Sobol dimension (van der Corput) of the shuffled index, Owen-scrambled.
+        let x = sobol_owen_1d_reversed(self.index_rev, k, hash32(k ^ 0xa511_e9b3));
+        (x >> 8) as f32 * (1.0 / 16_777_216.0)
+    }
+
     /// One number in [0, 1).
     #[inline]
     pub fn next_1d(&mut self) -> f32 {
         let dim = self.dim;
         self.dim += 1;
         match self.kind {
-            SamplerKind::Sobol => {
-                let k = self.dim_key(dim);
-                // First Sobol dimension (van der Corput) of the shuffled index, Owen-scrambled.
-                let x = sobol_owen_1d_reversed(self.index_rev, k, hash32(k ^ 0xa511_e9b3));
-                (x >> 8) as f32 * (1.0 / 16_777_216.0)
-            }
+            SamplerKind::Sobol => self.sobol_1d_at(dim),
             _ => self.rng.next_f32(),
+        }
+    }
+
+    /// Take the next dimension now and its number later, or never: [`Sampler::get_1d`] gives exactly what
+    /// `next_1d` would have returned here. The Sobol sampler computes it only when asked (its numbers are pure
+    /// functions of the dimension), so an estimator can reserve every dimension of a vertex in a fixed order and
+    /// pay only for those it uses (the lobe number of a one-lobe BSDF, the light choice among one light, roulette
+    /// before it starts); the other samplers draw it now, in order, as before.
+    #[inline]
+    pub fn defer_1d(&mut self) -> Deferred1d {
+        match self.kind {
+            SamplerKind::Sobol => {
+                self.dim += 1;
+                Deferred1d(DeferredValue::Dim(self.dim - 1))
+            }
+            _ => Deferred1d(DeferredValue::Value(self.next_1d())),
+        }
+    }
+
+    /// The number of a deferred dimension (of the current sample).
+    #[inline]
+    pub fn get_1d(&self, d: Deferred1d) -> f32 {
+        match d.0 {
+            DeferredValue::Dim(dim) => self.sobol_1d_at(dim),
+            DeferredValue::Value(v) => v,
         }
     }
 
