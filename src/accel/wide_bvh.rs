@@ -183,12 +183,38 @@ impl WideBvh {
         out
     }
 
+    /// The primitives under BVH2 inner node `node` when its two children are leaves better tested as one: their
+    /// boxes nearly coincide (the union's area within 10% of the larger child's, e.g. the two halves of a cube's
+    /// faces) and together they fill fewer packets than apart. A ray entering either box enters both, so one leaf
+    /// saves a box test, a stack entry and a half-empty packet.
+    fn merged_leaf_ids(bvh2: &Bvh2, node: usize) -> Option<Vec<u32>> {
+        let nd = &bvh2.nodes[node];
+        if nd.prim_count > 0 {
+            return None;
+        }
+        let (a, b) = (&bvh2.nodes[nd.first_index as usize], &bvh2.nodes[nd.first_index as usize + 1]);
+        let (na, nb) = (a.prim_count as usize, b.prim_count as usize);
+        if na == 0 || nb == 0 || (na + nb).div_ceil(4) >= na.div_ceil(4) + nb.div_ceil(4) {
+            return None;
+        }
+        if nd.aabb.half_area() > 1.1 * a.aabb.half_area().max(b.aabb.half_area()) {
+            return None;
+        }
+        let range = |n: &obvhs::bvh2::node::Bvh2Node| n.first_index..n.first_index + n.prim_count;
+        Some(range(a).chain(range(b)).map(|i| bvh2.primitive_indices[i as usize]).collect())
+    }
+
     /// Pack BVH2 leaf `node`'s primitives; returns the leaf's child slot.
     fn add_leaf(&mut self, bvh2: &Bvh2, node: usize, prims: &Primitives) -> u32 {
         let nd = &bvh2.nodes[node];
-        let nt = prims.num_tris();
         let ids: Vec<u32> =
             (nd.first_index..nd.first_index + nd.prim_count).map(|i| bvh2.primitive_indices[i as usize]).collect();
+        self.add_leaf_ids(&ids, prims)
+    }
+
+    /// Pack primitives `ids` into a new leaf; returns the leaf's child slot.
+    fn add_leaf_ids(&mut self, ids: &[u32], prims: &Primitives) -> u32 {
+        let nt = prims.num_tris();
         let (mut ordered, others): (Vec<u32>, Vec<u32>) = ids.iter().partition(|&&id| id < nt);
         ordered.extend(others);
         let first = self.packets.len() as u32;
@@ -220,13 +246,16 @@ impl WideBvh {
         if nd.prim_count > 0 {
             return self.add_leaf(bvh2, node, prims);
         }
+        if let Some(ids) = Self::merged_leaf_ids(bvh2, node) {
+            return self.add_leaf_ids(&ids, prims);
+        }
         // Open the inner child of largest surface area until there are WIDTH children.
         let mut kids = vec![nd.first_index as usize, nd.first_index as usize + 1];
         while kids.len() < WIDTH {
             let best = kids
                 .iter()
                 .enumerate()
-                .filter(|(_, k)| bvh2.nodes[**k].prim_count == 0)
+                .filter(|(_, k)| bvh2.nodes[**k].prim_count == 0 && Self::merged_leaf_ids(bvh2, **k).is_none())
                 .max_by(|a, b| bvh2.nodes[*a.1].aabb.half_area().total_cmp(&bvh2.nodes[*b.1].aabb.half_area()))
                 .map(|(i, _)| i);
             let Some(i) = best else { break };
