@@ -4,7 +4,8 @@
 //!
 //! Parameters: `envlight(max_depth: -1, rr_depth: 5, env_sampling: quadtree, mis: true)`
 //! - `max_depth`: path segments (1: emitters only, 2: direct lighting, -1: unlimited);
-//! - `rr_depth`: Russian roulette from this many segments on;
+//! - `rr_depth`: Russian roulette from this many segments on, survival `min(max(beta) eta^2, 0.95)` with `eta^2` the
+//!   radiance scaling of the refractions so far undone (Mitsuba's rule: a path inside glass is not a dimmer one);
 //! - `env_sampling`: `quadtree` | `piecewise` | `uniform` | `cosine` (for comparisons);
 //! - `mis`: weight light and BSDF sampling by the power heuristic; `false` uses light sampling alone for what
 //!   it can reach (pure strategy comparisons).
