@@ -4,7 +4,8 @@
 //! 1. an eye pass (`visible.rs`): one camera sample per pixel traced through specular chains to its first smooth
 //!    vertex, the *visible point*, which also gets direct light by next-event estimation;
 //! 2. a photon pass (`photons.rs`): `photons` photons from the lights (chosen by power, `sample_le`), stored from
-//!    their second vertex on (direct light is the eye pass's), scattered with exact Fresnel and Russian roulette;
+//!    their second vertex on (direct light is the eye pass's), scattered with exact Fresnel and Russian roulette
+//!    (traced first in the code, so the lookup over them is built while the eye pass runs);
 //! 3. a gather: each visible point sums `photon power x BSDF` over the photons within its pixel's radius `R`
 //!    (found through the hash grid or the kd-tree, on the same photons), then the pixel statistics update as
 //!    `N <- N + alpha M`, `R <- R sqrt((N + alpha M) / (N + M))`, `tau <- (tau + beta Phi) (R_new / R)^2`.
@@ -98,6 +99,9 @@ pub struct Ppm {
     radii: Vec<f32>,
     /// Rows this process renders: `(k, n)` = rows `y % n == k` (a row shard), `(0, 1)` = all.
     rows: (u32, u32),
+    /// The hash grid's cell size from the last iteration's radii (the next iteration builds its grid with it while
+    /// the eye pass runs); `None` before the first.
+    cell: Option<f32>,
 }
 
 impl Ppm {
@@ -117,6 +121,7 @@ impl Ppm {
             eye_ready: false,
             radii: vec![],
             rows: (0, 1),
+            cell: None,
         }
     }
 
@@ -150,33 +155,7 @@ impl Ppm {
         let fixed = self.params.mode == PpmMode::Fixed;
         let k = self.iterations;
         let w = settings.width as usize;
-        // 1. Eye pass (fixed mode: once, with iteration 0's numbers, also after a resume).
-        if !fixed || !self.eye_ready {
-            let index = if fixed { 0 } else { k };
-            let (rk, rn) = self.rows;
-            let eye = EyePass {
-                scene,
-                lights,
-                settings,
-                sampler: settings.sampler,
-                max_segments: self.params.segments(),
-                direct_lighting: !fixed,
-                pixel_centre: fixed,
-            };
-            self.eye.par_chunks_mut(w).enumerate().for_each(|(y, row)| {
-                if cancel.load(Ordering::Relaxed) || y as u32 % rn != rk {
-                    return;
-                }
-                for (x, r) in row.iter_mut().enumerate() {
-                    *r = eye.trace_pixel(x as u32, y as u32, index);
-                }
-            });
-            if cancel.load(Ordering::Relaxed) {
-                return false;
-            }
-            self.eye_ready = true;
-        }
-        // 2. Photon pass.
+        // 1. Photon pass (it does not depend on the eye pass).
         let pass = PhotonPass {
             scene,
             lights,
@@ -191,6 +170,56 @@ impl Ppm {
             return false;
         }
         self.photons_stored = self.chunks.iter().map(|c| c.len() as u64).sum();
+        // 2. Eye pass (fixed mode: once, with iteration 0's numbers, also after a resume), with the photon lookup
+        //    built meanwhile: the build is one thread's work and the eye pass's rows keep the other threads busy.
+        //    The hash grid then takes its cell size from the previous iteration's radii; cells change only how
+        //    fast the lookup is, never what it finds (gathered sums are exact fixed point, order-free).
+        let lookup = self.params.lookup;
+        let early = match lookup {
+            PhotonLookup::HashGrid => self.cell,
+            PhotonLookup::Kdtree => Some(0.0),
+        };
+        let mut built = false;
+        if !fixed || !self.eye_ready {
+            let index = if fixed { 0 } else { k };
+            let (rk, rn) = self.rows;
+            let eye = EyePass {
+                scene,
+                lights,
+                settings,
+                sampler: settings.sampler,
+                max_segments: self.params.segments(),
+                direct_lighting: !fixed,
+                pixel_centre: fixed,
+            };
+            let (eye_rows, grid, kd, chunks) = (&mut self.eye, &mut self.grid, &mut self.kd, &self.chunks);
+            let build = || match (early, lookup) {
+                (Some(cell), PhotonLookup::HashGrid) => {
+                    grid.build(chunks, cell);
+                    true
+                }
+                (Some(_), PhotonLookup::Kdtree) => {
+                    kd.build(chunks);
+                    true
+                }
+                (None, _) => false,
+            };
+            let trace = || {
+                eye_rows.par_chunks_mut(w).enumerate().for_each(|(y, row)| {
+                    if cancel.load(Ordering::Relaxed) || y as u32 % rn != rk {
+                        return;
+                    }
+                    for (x, r) in row.iter_mut().enumerate() {
+                        *r = eye.trace_pixel(x as u32, y as u32, index);
+                    }
+                })
+            };
+            (built, _) = rayon::join(build, trace);
+            if cancel.load(Ordering::Relaxed) {
+                return false;
+            }
+            self.eye_ready = true;
+        }
         // 3. Gather and update.
         let initial = |vp: &VisiblePoint| {
             self.params
@@ -205,15 +234,19 @@ impl Ppm {
         }));
         let r_max = self.radii.iter().copied().fold(0.0f32, f32::max);
         if r_max > 0.0 {
-            match self.params.lookup {
+            match lookup {
                 PhotonLookup::HashGrid => {
                     // Cells twice the median radius: most queries touch 2 x 2 x 2 cells.
                     let mid = self.radii.len() / 2;
                     let (_, median, _) = self.radii.select_nth_unstable_by(mid, f32::total_cmp);
                     let cell = (2.0 * *median).max(r_max * 1e-3);
-                    self.grid.build(&self.chunks, cell)
+                    self.cell = Some(cell);
+                    if !built {
+                        self.grid.build(&self.chunks, cell);
+                    }
                 }
-                PhotonLookup::Kdtree => self.kd.build(&self.chunks),
+                PhotonLookup::Kdtree if !built => self.kd.build(&self.chunks),
+                PhotonLookup::Kdtree => {}
             }
         }
         let (grid, kd, lookup, alpha) = (&self.grid, &self.kd, self.params.lookup, self.params.alpha as f64);
@@ -267,6 +300,7 @@ impl Integrator for Ppm {
         self.eye = vec![EyeResult::default(); pixels];
         self.iterations = 0;
         self.eye_ready = false;
+        self.cell = None;
         self.rows = settings.shard;
         if settings.width as u64 * settings.height as u64 > u32::MAX as u64 {
             return Err(PrismError::invalid("ppm: image too large"));
