@@ -4,6 +4,7 @@
 mod common;
 
 mod accel;
+mod accel_cli;
 mod analytic;
 mod appearance;
 mod converge;
