@@ -175,10 +175,7 @@ impl Ppm {
         //    The hash grid then takes its cell size from the previous iteration's radii; cells change only how
         //    fast the lookup is, never what it finds (gathered sums are exact fixed point, order-free).
         let lookup = self.params.lookup;
-        let early = match lookup {
-            PhotonLookup::HashGrid => self.cell,
-            PhotonLookup::Kdtree => Some(0.0),
-        };
+        let last_cell = self.cell;
         let mut built = false;
         if !fixed || !self.eye_ready {
             let index = if fixed { 0 } else { k };
@@ -193,16 +190,13 @@ impl Ppm {
                 pixel_centre: fixed,
             };
             let (eye_rows, grid, kd, chunks) = (&mut self.eye, &mut self.grid, &mut self.kd, &self.chunks);
-            let build = || match (early, lookup) {
-                (Some(cell), PhotonLookup::HashGrid) => {
-                    grid.build(chunks, cell);
-                    true
-                }
-                (Some(_), PhotonLookup::Kdtree) => {
+            // True when the lookup was built here (the hash grid needs a previous iteration's cell size).
+            let build = || match lookup {
+                PhotonLookup::HashGrid => last_cell.map(|cell| grid.build(chunks, cell)).is_some(),
+                PhotonLookup::Kdtree => {
                     kd.build(chunks);
                     true
                 }
-                (None, _) => false,
             };
             let trace = || {
                 eye_rows.par_chunks_mut(w).enumerate().for_each(|(y, row)| {
