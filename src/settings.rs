@@ -158,6 +158,9 @@ pub struct RenderSettings {
     pub pattern: Option<PixelPattern>,
     /// Pixel reconstruction filter (by filter importance sampling).
     pub filter: PixelFilter,
+    /// After a uniform first pass, give each pixel samples in proportion to its estimated noise (per-pixel
+    /// integrators; see `integrator::adaptive`).
+    pub adaptive: bool,
     pub seed: u64,
     /// Stop after the pass that crosses this many seconds.
     pub time_budget: Option<f64>,
@@ -180,6 +183,7 @@ impl Default for RenderSettings {
             sampler: SamplerKind::default(),
             pattern: None,
             filter: PixelFilter::default(),
+            adaptive: false,
             seed: 0,
             time_budget: None,
             integrator: PluginConfig::named("phong"),
@@ -195,7 +199,7 @@ impl RenderSettings {
     /// with `scene`, a hash of the scene file: films of different scenes or settings do not resume or merge.
     pub fn fingerprint(&self, scene: u64) -> u64 {
         let key = format!(
-            "{}x{} spp {:?} passes {} pass_spp {} sampler {:?} pattern {:?} filter {:?} seed {} integrator {} {:?} accel {:?}",
+            "{}x{} spp {:?} passes {} pass_spp {} sampler {:?} pattern {:?} filter {:?}{} seed {} integrator {} {:?} accel {:?}",
             self.width,
             self.height,
             self.spp,
@@ -204,6 +208,7 @@ impl RenderSettings {
             self.sampler,
             self.pattern,
             self.filter,
+            if self.adaptive { " adaptive" } else { "" },
             self.seed,
             self.integrator.name,
             self.integrator.params,
@@ -322,6 +327,7 @@ pub struct Overrides {
     pub sampler: Option<SamplerKind>,
     pub pattern: Option<PixelPattern>,
     pub filter: Option<PixelFilter>,
+    pub adaptive: Option<bool>,
     pub seed: Option<u64>,
     pub time_budget: Option<f64>,
     /// No sample limit unless `spp` is given (set with a time budget on the command line).

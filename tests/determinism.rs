@@ -1,15 +1,21 @@
-//! The same scene and seed give a bit-identical image whatever the thread count.
+//! The same scene and seed give a bit-identical image whatever the thread count (uniform and adaptive sampling).
 
 use crate::common::{prism, root, scratch};
 use prism::io::read_exr;
 
 #[test]
 fn exr_is_bit_identical_for_one_and_two_threads() {
+    for adaptive in ["false", "true"] {
+        bit_identical_for_one_and_two_threads(adaptive);
+    }
+}
+
+fn bit_identical_for_one_and_two_threads(adaptive: &str) {
     let dir = scratch("determinism");
     let scene = root().join("scenes/cornell_box.ron");
     let mut images = vec![];
     for threads in ["1", "2"] {
-        let out = dir.join(format!("t{threads}.exr"));
+        let out = dir.join(format!("t{threads}-{adaptive}.exr"));
         let o = prism(&[
             "render",
             scene.to_str().unwrap(),
@@ -21,6 +27,8 @@ fn exr_is_bit_identical_for_one_and_two_threads() {
             "8",
             "--threads",
             threads,
+            "--adaptive",
+            adaptive,
             "-q",
         ]);
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
@@ -29,7 +37,7 @@ fn exr_is_bit_identical_for_one_and_two_threads() {
     let bits = |img: &prism::io::Image| -> Vec<u32> {
         img.pixels.iter().flat_map(|p| p.to_array().map(f32::to_bits)).collect()
     };
-    assert_eq!(bits(&images[0]), bits(&images[1]), "thread count changed the image");
+    assert_eq!(bits(&images[0]), bits(&images[1]), "thread count changed the image (adaptive: {adaptive})");
     assert!(images[0].mean().x > 0.05, "the image is not black");
 }
 

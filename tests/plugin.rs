@@ -46,7 +46,7 @@ impl Plugin for FacingPlugin {
             "facing",
             Box::new(|cfg| {
                 let p: FacingParams = cfg.parse_params()?;
-                Ok(Box::new(PerPixel(FacingRatio { scale: p.scale.unwrap_or(1.0) })))
+                Ok(Box::new(PerPixel::new(FacingRatio { scale: p.scale.unwrap_or(1.0) })))
             }),
         );
         let seen = self.passes_seen.clone();

@@ -48,6 +48,9 @@ fn path_traced_shards_merge_bit_identically() {
     let extra = ["--size", "48x48", "--spp", "12", "--passes", "6"];
     shards_merge_exactly("shards-envlight-2", &scene, &extra, 2);
     shards_merge_exactly("shards-envlight-4", &scene, &extra, 4);
+    // Adaptive: every shard after the first re-renders the pilot pass for the rates, and adds only its own passes.
+    let adaptive = ["--size", "48x48", "--spp", "12", "--passes", "6", "--adaptive"];
+    shards_merge_exactly("shards-envlight-adaptive-3", &scene, &adaptive, 3);
 }
 
 #[test]
@@ -58,10 +61,10 @@ fn photon_mapping_row_shards_merge_bit_identically() {
 }
 
 /// Render 2 of 4 passes into a film (a checkpoint's state), resume it, compare with the uninterrupted render.
-fn resume_is_exact(name: &str, integrator: &str) {
+fn resume_is_exact(name: &str, integrator: &str, adaptive: &str) {
     let dir = scratch(name);
     let scene = scene_path("cornell_caustic.ron");
-    let base = ["--size", "40x40", "--integrator", integrator, "--passes", "4", "-q"];
+    let base = ["--size", "40x40", "--integrator", integrator, "--passes", "4", "--adaptive", adaptive, "-q"];
     let whole = dir.join("whole.exr");
     let mut args = vec!["render", s(&scene), "--spp", "8", "-o", s(&whole)];
     args.extend_from_slice(&base);
@@ -79,6 +82,8 @@ fn resume_is_exact(name: &str, integrator: &str) {
         integrator,
         "--passes",
         "4",
+        "--adaptive",
+        adaptive,
         "-q",
         "--time",
         "0.000000001",
@@ -95,8 +100,10 @@ fn resume_is_exact(name: &str, integrator: &str) {
 
 #[test]
 fn resumed_renders_equal_uninterrupted_ones() {
-    resume_is_exact("resume-envlight", "envlight(max_depth: 12)");
-    resume_is_exact("resume-ppm", "ppm(max_depth: 12)");
+    resume_is_exact("resume-envlight", "envlight(max_depth: 12)", "false");
+    // Adaptive: the resumed process re-renders the pilot pass for the rates (the film already holds it).
+    resume_is_exact("resume-envlight-adaptive", "envlight(max_depth: 12)", "true");
+    resume_is_exact("resume-ppm", "ppm(max_depth: 12)", "false");
 }
 
 #[test]

@@ -25,7 +25,7 @@ impl Plugin for NanPlugin {
         "nan"
     }
     fn build(&self, app: &mut prism::App) {
-        app.register_integrator("nan", Box::new(|_| Ok(Box::new(PerPixel(NanEveryOther)))));
+        app.register_integrator("nan", Box::new(|_| Ok(Box::new(PerPixel::new(NanEveryOther)))));
     }
 }
 

@@ -5,6 +5,7 @@ mod common;
 
 mod accel;
 mod accel_cli;
+mod adaptive;
 mod analytic;
 mod appearance;
 mod converge;

@@ -107,7 +107,7 @@ impl Plugin for DebugPlugin {
                 }
                 Ok(match p.mode {
                     DebugMode::Heat => Box::new(HeatMap { params: p, announced: false }),
-                    _ => Box::new(PerPixel(DebugView { params: p, near: 0.0, far: 1.0, max_count: 1 })),
+                    _ => Box::new(PerPixel::new(DebugView { params: p, near: 0.0, far: 1.0, max_count: 1 })),
                 })
             }),
         );

@@ -60,7 +60,7 @@ impl Plugin for EnvlightPlugin {
                 if params.rr_depth < 1 {
                     return Err(PrismError::invalid("envlight: rr_depth must be at least 1"));
                 }
-                Ok(Box::new(PerPixel(Envlight { tracer: None, params })))
+                Ok(Box::new(PerPixel::new(Envlight { tracer: None, params })))
             }),
         );
     }

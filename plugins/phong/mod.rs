@@ -62,7 +62,7 @@ impl Plugin for PhongPlugin {
             "phong",
             Box::new(|cfg| {
                 let p: PhongParams = cfg.parse_params()?;
-                Ok(Box::new(PerPixel(Phong::new(p)?)))
+                Ok(Box::new(PerPixel::new(Phong::new(p)?)))
             }),
         );
     }

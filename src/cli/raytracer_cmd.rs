@@ -175,6 +175,7 @@ pub fn run(args: RaytracerArgs) -> anyhow::Result<()> {
         sampler: None,
         pattern: Some(o.samples.map_or(PixelPattern::Uniform, |s| s.0)),
         filter: o.filter,
+        adaptive: None,
         exposure: None,
         checkpoint: 0.0,
         quiet: true,

@@ -56,6 +56,10 @@ pub struct RenderArgs {
     /// Pixel filter: box, tent or gaussian, with its radius (sigma for gaussian) after a colon: `tent:1.5`.
     #[arg(long, value_parser = parse_filter)]
     pub filter: Option<PixelFilter>,
+    /// Adaptive sampling: after a uniform first pass, samples go where the image is noisy (same total);
+    /// `--adaptive false` turns off a scene's `adaptive: true`.
+    #[arg(long, num_args = 0..=1, default_missing_value = "true", value_name = "BOOL")]
+    pub adaptive: Option<bool>,
     /// PNG exposure in stops.
     #[arg(long, allow_negative_numbers = true)]
     pub exposure: Option<f32>,
@@ -192,6 +196,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
         sampler: args.sampler,
         pattern: args.pattern,
         filter: args.filter,
+        adaptive: args.adaptive,
         seed: args.seed,
         time_budget: args.time,
         spp_unlimited: args.time.is_some(),
@@ -230,7 +235,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
         let render_s = p.elapsed.as_secs_f64();
         let samples = (p.spp_done - p.spp_resumed) as f64 * s.width as f64 * s.height as f64;
         eprintln!(
-            "{}x{} {} spp ({} passes, {}, {}, {} sampler) in {:.3} s render + {:.2} s setup ({:.2} Msamples/s); wrote {}",
+            "{}x{} {} spp ({} passes, {}, {}, {} sampler{}) in {:.3} s render + {:.2} s setup ({:.2} Msamples/s); wrote {}",
             s.width,
             s.height,
             p.spp_done,
@@ -238,6 +243,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
             s.integrator.name,
             s.accel.name(),
             s.sampler.name(),
+            if s.adaptive { ", adaptive" } else { "" },
             render_s,
             (wall - render_s).max(0.0),
             samples / render_s.max(1e-9) / 1e6,

@@ -66,6 +66,7 @@ impl Film {
                 && t.tile.x0 + t.tile.w <= w
                 && t.tile.y0 + t.tile.h <= h
                 && t.sums.len() == (t.tile.w * t.tile.h) as usize
+                && t.counts.len() == t.sums.len()
         };
         self.nonfinite += tiles.iter().map(|t| t.nonfinite as u64).sum::<u64>();
         if w == 0 || !tiles.iter().all(inside) {
@@ -93,7 +94,7 @@ impl Film {
                 let i = ((t.tile.y0 + y - first_row) * width + t.tile.x0 + x) as usize;
                 let s = t.sums[(y * t.tile.w + x) as usize];
                 sum[i].add(FixedRgb::from_rgb(s.x as f64, s.y as f64, s.z as f64));
-                count[i] += t.spp as u64;
+                count[i] += t.counts[(y * t.tile.w + x) as usize] as u64;
             }
         }
     }
@@ -151,7 +152,7 @@ impl Film {
                 for x in 0..t.tile.w {
                     let i = ((t.tile.y0 + y) * self.width + t.tile.x0 + x) as usize;
                     out[i].0 += t.sums[(y * t.tile.w + x) as usize];
-                    out[i].1 += t.spp as u64;
+                    out[i].1 += t.counts[(y * t.tile.w + x) as usize] as u64;
                 }
             }
         }

@@ -9,9 +9,11 @@
 //!   order per path vertex, so the low-discrepancy sampler stratifies every dimension of the path.
 //! - [`IntegratorRegistry`]: names to factories; plugins register theirs in `Plugin::build`.
 
+mod adaptive;
 mod per_pixel;
 mod registry;
 
+pub use adaptive::{MAX_RATE, MIN_RATE, SampleAllocation};
 pub use per_pixel::{PerPixel, TILE_SIZE, tiles};
 pub use registry::{IntegratorFactory, IntegratorRegistry};
 
@@ -45,11 +47,12 @@ pub struct Tile {
     pub h: u32,
 }
 
-/// Radiance sums of one tile for one pass: `sums[y * w + x]` holds the sum of `spp` samples.
+/// Radiance sums of one tile for one pass: `sums[y * w + x]` holds the sum of `counts[y * w + x]` samples (the
+/// same count everywhere unless the render is adaptive).
 #[derive(Clone, Debug)]
 pub struct TileSamples {
     pub tile: Tile,
-    pub spp: u32,
+    pub counts: Vec<u32>,
     pub sums: Vec<Vec3>,
     /// Samples that came out NaN or infinite and were replaced by 0 (reported in the render summary).
     pub nonfinite: u32,
@@ -84,6 +87,12 @@ pub trait Integrator: Send + Sync {
     /// by pixel rows (for methods whose passes depend on each other, such as progressive photon mapping).
     fn shard_axis(&self) -> ShardAxis {
         ShardAxis::Passes
+    }
+
+    /// Whether `adaptive` settings change how this integrator distributes samples (per-pixel estimators do; a
+    /// render asking for it with another integrator is warned that it has no effect).
+    fn adapts_samples(&self) -> bool {
+        false
     }
 
     /// The state a resumed render needs besides the film (saved in `.prism-film` files); empty by default.

@@ -5,8 +5,11 @@
 //! Per camera sample: the sampler's dimensions 0-1 place the sample in the pixel (or an explicit pattern does),
 //! warped by the pixel filter around the pixel centre; dimensions 2-3 are the lens sample (drawn only for a thin
 //! lens, skipped otherwise so the integrator's dimensions do not move); the integrator continues from dimension 4.
+//!
+//! With `adaptive` settings the first pass is the pilot of a [`SampleAllocation`] and later passes give each pixel
+//! the samples it allots (see [`super::adaptive`]).
 
-use super::{Integrator, PassInfo, PassOutput, PixelIntegrator, Tile, TileSamples};
+use super::{Integrator, PassInfo, PassOutput, PixelIntegrator, SampleAllocation, Tile, TileSamples};
 use crate::error::Result;
 use crate::sampling::{Rng, Sampler, hash_u64};
 use crate::scene::Scene;
@@ -29,32 +32,70 @@ pub fn tiles(width: u32, height: u32) -> Vec<Tile> {
 }
 
 /// Adapts a per-ray estimator to the pass-based [`Integrator`] interface.
-pub struct PerPixel<T>(pub T);
+pub struct PerPixel<T> {
+    estimator: T,
+    /// The adaptive renders' allocation, once the pilot pass is known.
+    allocation: Option<SampleAllocation>,
+}
+
+/// One tile's sums, and for the pilot of an adaptive render the sums of squared samples.
+struct TileOut {
+    samples: TileSamples,
+    squares: Vec<Vec3>,
+}
 
 impl<T: PixelIntegrator> PerPixel<T> {
+    /// The integrator that renders `estimator` per pixel.
+    pub fn new(estimator: T) -> Self {
+        PerPixel { estimator, allocation: None }
+    }
+
     /// One tile of the pass; `None` when `cancel` was set while it was rendered (a tile cut short is not kept:
-    /// cancellation is checked after every sample, so a tile of heavy pixels stops within one sample).
-    fn render_tile(&self, scene: &Scene, pass: &PassInfo, tile: Tile, cancel: &AtomicBool) -> Option<TileSamples> {
+    /// cancellation is checked after every sample, so a tile of heavy pixels stops within one sample). `squares`:
+    /// also sum the squared samples (the adaptive pilot).
+    fn render_tile(
+        &self,
+        scene: &Scene,
+        pass: &PassInfo,
+        tile: Tile,
+        cancel: &AtomicBool,
+        squares: bool,
+    ) -> Option<TileOut> {
         let s = pass.settings;
         let pattern = s.pixel_pattern();
         let camera = &scene.camera;
-        let mut sums = Vec::with_capacity((tile.w * tile.h) as usize);
+        let n = (tile.w * tile.h) as usize;
+        let mut sums = Vec::with_capacity(n);
+        let mut counts = Vec::with_capacity(n);
+        let mut sq = Vec::with_capacity(if squares { n } else { 0 });
         let mut nonfinite = 0;
+        let next_nominal = pass.first_sample + pass.spp as u64;
         for y in tile.y0..tile.y0 + tile.h {
             for x in tile.x0..tile.x0 + tile.w {
                 let pixel = y as u64 * s.width as u64 + x as u64;
                 let pixel_key = hash_u64(s.seed ^ hash_u64(pixel)) as u32;
                 let mut sampler = Sampler::new(s.sampler, pixel_key, Rng::for_pixel(s.seed, pixel, pass.index as u64));
+                // This pass's samples of the pixel's sequence: the nominal range, or the allocation's.
+                let (first, end, total) = match &self.allocation {
+                    Some(a) => (
+                        a.samples_before(pixel as usize, pass.first_sample),
+                        a.samples_before(pixel as usize, next_nominal),
+                        s.spp.map(|n| a.samples_before(pixel as usize, n as u64)),
+                    ),
+                    None => (pass.first_sample, next_nominal, s.spp.map(u64::from)),
+                };
                 // With a known total, a pattern stratifies pixel positions over the whole render (the pixel's key is
                 // the same in every pass, each pass takes the next sample indices); otherwise within the pass.
-                let (base, total, key) = match s.spp {
-                    Some(n) => (pass.first_sample as u32, n, pixel_key),
-                    None => (0, pass.spp, sampler.rng().next_u32()),
+                let (base, total, key) = match total {
+                    Some(n) => (first as u32, n.min(u32::MAX as u64) as u32, pixel_key),
+                    None => (0, (end - first) as u32, sampler.rng().next_u32()),
                 };
                 let centre = Vec2::new(x as f32 + 0.5, y as f32 + 0.5);
                 let mut sum = Vec3::ZERO;
-                for i in 0..pass.spp {
-                    sampler.start(pass.first_sample as u32 + i);
+                let mut sum_sq = Vec3::ZERO;
+                for index in first..end {
+                    let i = (index - first) as u32;
+                    sampler.start(index as u32);
                     let u_pixel = match pattern {
                         Some(p) => {
                             sampler.skip_2d();
@@ -69,34 +110,92 @@ impl<T: PixelIntegrator> PerPixel<T> {
                         Vec2::ZERO
                     };
                     let ray = camera.generate_ray_lens(centre + s.filter.warp(u_pixel), u_lens);
-                    let l = self.0.radiance(scene, ray, &mut sampler);
+                    let l = self.estimator.radiance(scene, ray, &mut sampler);
                     if cancel.load(Ordering::Relaxed) {
                         return None;
                     }
                     if l.is_finite() {
                         sum += l;
+                        sum_sq += l * l;
                     } else {
                         nonfinite += 1;
                     }
                 }
                 sums.push(sum);
+                counts.push((end - first) as u32);
+                if squares {
+                    sq.push(sum_sq);
+                }
             }
         }
-        Some(TileSamples { tile, spp: pass.spp, sums, nonfinite })
+        Some(TileOut { samples: TileSamples { tile, counts, sums, nonfinite }, squares: sq })
+    }
+
+    /// Render the tiles of `pass` in parallel (absent: cut short by `cancel`).
+    fn render_tiles(&self, scene: &Scene, pass: &PassInfo, cancel: &AtomicBool, squares: bool) -> Vec<TileOut> {
+        let done: Vec<Option<TileOut>> = tiles(pass.settings.width, pass.settings.height)
+            .into_par_iter()
+            // One job per tile: costs differ across the image (an adaptive pass most), and a run of tiles that
+            // rayon left unsplit would otherwise keep one thread busy while the other waits.
+            .with_max_len(1)
+            .map(|tile| {
+                if cancel.load(Ordering::Relaxed) { None } else { self.render_tile(scene, pass, tile, cancel, squares) }
+            })
+            .collect();
+        done.into_iter().flatten().collect()
+    }
+
+    /// The allocation from a complete pilot pass (`None` if some tile is missing).
+    fn allocation_from(settings: &RenderSettings, pilot: u64, out: &[TileOut]) -> Option<SampleAllocation> {
+        let (w, h) = (settings.width, settings.height);
+        if out.len() != tiles(w, h).len() {
+            return None;
+        }
+        let n = w as usize * h as usize;
+        let (mut sums, mut squares) = (vec![Vec3::ZERO; n], vec![Vec3::ZERO; n]);
+        for t in out {
+            let tile = t.samples.tile;
+            for (k, (s, q)) in t.samples.sums.iter().zip(&t.squares).enumerate() {
+                let (x, y) = (tile.x0 + k as u32 % tile.w, tile.y0 + k as u32 / tile.w);
+                let i = y as usize * w as usize + x as usize;
+                sums[i] = *s;
+                squares[i] = *q;
+            }
+        }
+        Some(SampleAllocation::from_pilot(w, h, pilot, &sums, &squares, settings.seed))
     }
 }
 
 impl<T: PixelIntegrator> Integrator for PerPixel<T> {
+    fn adapts_samples(&self) -> bool {
+        true
+    }
+
     fn prepare(&mut self, scene: &Scene, settings: &RenderSettings) -> Result<()> {
-        self.0.prepare(scene, settings)
+        self.allocation = None;
+        self.estimator.prepare(scene, settings)
     }
 
     fn render_pass(&mut self, scene: &Scene, pass: &PassInfo, cancel: &AtomicBool) -> PassOutput {
-        let this = &*self;
-        let done: Vec<Option<TileSamples>> = tiles(pass.settings.width, pass.settings.height)
-            .into_par_iter()
-            .map(|tile| if cancel.load(Ordering::Relaxed) { None } else { this.render_tile(scene, pass, tile, cancel) })
-            .collect();
-        PassOutput::Samples(done.into_iter().flatten().collect())
+        let s = pass.settings;
+        if !s.adaptive || self.allocation.is_some() {
+            let out = self.render_tiles(scene, pass, cancel, false);
+            return PassOutput::Samples(out.into_iter().map(|t| t.samples).collect());
+        }
+        let pilot = PassInfo { index: 0, spp: s.samples_in_pass(0), first_sample: 0, settings: s };
+        if pass.index == 0 {
+            // The pilot: a uniform pass whose squared samples set the rates of every later pass.
+            let out = self.render_tiles(scene, pass, cancel, true);
+            self.allocation = Self::allocation_from(s, pilot.spp as u64, &out);
+            return PassOutput::Samples(out.into_iter().map(|t| t.samples).collect());
+        }
+        // A shard or a resumed render that starts later: render the pilot again (the same samples) for its rates only.
+        let out = self.render_tiles(scene, &pilot, cancel, true);
+        self.allocation = Self::allocation_from(s, pilot.spp as u64, &out);
+        if self.allocation.is_none() {
+            return PassOutput::Samples(vec![]);
+        }
+        let out = self.render_tiles(scene, pass, cancel, false);
+        PassOutput::Samples(out.into_iter().map(|t| t.samples).collect())
     }
 }

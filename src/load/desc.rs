@@ -129,6 +129,9 @@ pub struct RenderDesc<'a> {
     /// `Box(radius: 0.5)` (default), `Tent(radius: 1)`, `Gaussian(sigma: 0.5)`.
     #[serde(default)]
     pub filter: Option<PixelFilter>,
+    /// Samples after the first pass go where the image is noisy (`false` by default).
+    #[serde(default)]
+    pub adaptive: Option<bool>,
     #[serde(default)]
     pub seed: Option<u64>,
     /// Time budget in seconds: stop after the pass that crosses it.

@@ -234,6 +234,7 @@ fn resolve_settings(world: &mut World, res: &mut Resources, f: FileSettings) -> 
         sampler: o.sampler.or(f.sampler).unwrap_or(d.sampler),
         pattern: o.pattern.or(f.pattern),
         filter: o.filter.or(f.filter).unwrap_or(d.filter),
+        adaptive: o.adaptive.or(f.adaptive).unwrap_or(d.adaptive),
         seed: o.seed.or(f.seed).unwrap_or(d.seed),
         time_budget,
         integrator,

@@ -91,6 +91,12 @@ pub fn prepare_integrator_system(_world: &mut World, res: &mut Resources) -> Res
     let t0 = Instant::now();
     let mut integrator = res.integrators.create(&res.settings.integrator)?;
     integrator.prepare(res.scene()?, &res.settings)?;
+    if res.settings.adaptive && !integrator.adapts_samples() {
+        eprintln!(
+            "warning: adaptive sampling has no effect with the `{}` integrator (it applies to per-pixel estimators)",
+            res.settings.integrator.name
+        );
+    }
     let mut film = Film::new(res.settings.width, res.settings.height);
     let (k, n) = res.settings.shard;
     if n > 1 && integrator.shard_axis() == ShardAxis::Rows {

@@ -1,0 +1,181 @@
+//! Adaptive sampling (`render: (adaptive: true)`, `--adaptive`): the samples after the first pass go where the
+//! image is noisy, the total staying the requested `spp` x pixels.
+//!
+//! The first pass (the pilot) gives every pixel the same samples. From it, each pixel gets a rate `r` (mean 1 over
+//! the image) proportional to the standard deviation of one sample there, which minimises the image's mean squared
+//! error for a given number of samples (Lagrange: `n_i` proportional to `sigma_i`). Pixel `i`'s cumulative sample
+//! count after `S` nominal samples per pixel is then
+//!
+//! `C_i(S) = S` for `S <= s0` (the pilot's count), else `s0 + floor(r_i (S - s0) + d_i)`
+//!
+//! with a fixed per-pixel dither `d_i` in [0, 1), so a pass renders samples `C_i(S_p) .. C_i(S_p+1)` of each pixel's
+//! sequence (its Sobol points continue; stratification of every prefix is kept) and the image holds `spp` x pixels
+//! samples to within rounding. Every count is a pure function of (scene, settings, pilot), so thread counts, shards
+//! and resumes give the same image bit for bit (a process that starts after the pilot re-renders it to know the
+//! rates, without adding it to its film).
+//!
+//! **Unbiased**: `sigma_i` is estimated from the pilot samples of pixel `i`'s eight neighbours only (their pooled
+//! variance, which also sees edges running through the neighbourhood), never from pixel `i`'s own samples. Pixels'
+//! random numbers are independent, so the number of samples a pixel receives is independent of their values and the
+//! pixel's mean stays an unbiased estimate. (A rate chosen from the pixel's own samples would correlate count and
+//! value: a pilot that happened to be extreme would attract samples, and the mean would be biased.)
+//! Rates are clamped to [`MIN_RATE`, `MAX_RATE`]: a pixel that looked smooth in the pilot keeps a quarter of the
+//! uniform rate, and no pixel takes more than eight times it.
+
+use glam::Vec3;
+
+/// Fewest samples (relative to the uniform rate) a pixel receives after the pilot.
+pub const MIN_RATE: f32 = 0.25;
+/// Most samples (relative to the uniform rate) a pixel receives after the pilot.
+pub const MAX_RATE: f32 = 8.0;
+
+/// Per-pixel sample rates after the pilot pass.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SampleAllocation {
+    /// Samples per pixel of the pilot (every pixel has exactly these first).
+    pub pilot: u64,
+    /// Relative rate of each pixel (row-major), mean 1.
+    rates: Vec<f32>,
+    /// Rounding dither of each pixel, in [0, 1).
+    dither: Vec<f32>,
+}
+
+impl SampleAllocation {
+    /// The allocation from the pilot's per-pixel sums and sums of squares of `pilot` samples each (row-major,
+    /// `width * height` entries); `seed` keys the rounding dither.
+    pub fn from_pilot(width: u32, height: u32, pilot: u64, sums: &[Vec3], squares: &[Vec3], seed: u64) -> Self {
+        let (w, h) = (width as usize, height as usize);
+        let n = w * h;
+        debug_assert!(sums.len() == n && squares.len() == n);
+        let k = pilot.max(1) as f32;
+        let mut sigma = vec![0.0f32; n];
+        for y in 0..h {
+            for x in 0..w {
+                // Pooled over the neighbours' samples: E[v^2] - E[v]^2 per channel, averaged over RGB.
+                let (mut m, mut q, mut count) = (Vec3::ZERO, Vec3::ZERO, 0.0f32);
+                for ny in y.saturating_sub(1)..(y + 2).min(h) {
+                    for nx in x.saturating_sub(1)..(x + 2).min(w) {
+                        if (nx, ny) != (x, y) {
+                            let j = ny * w + nx;
+                            m += sums[j];
+                            q += squares[j];
+                            count += k;
+                        }
+                    }
+                }
+                if count > 0.0 {
+                    let mean = m / count;
+                    let var = (q / count - mean * mean).max(Vec3::ZERO);
+                    let v = (var.x + var.y + var.z) / 3.0;
+                    sigma[y * w + x] = if v.is_finite() { v.sqrt() } else { 0.0 };
+                }
+            }
+        }
+        let rates = normalized_rates(&sigma);
+        let dither = (0..n as u64)
+            .map(|i| {
+                let hsh = crate::sampling::hash_u64(seed ^ 0xada9_717e ^ crate::sampling::hash_u64(i));
+                (hsh >> 40) as f32 / 16_777_216.0
+            })
+            .collect();
+        SampleAllocation { pilot, rates, dither }
+    }
+
+    /// Samples pixel `pixel` has received once every pixel would have `nominal` under uniform sampling.
+    #[inline]
+    pub fn samples_before(&self, pixel: usize, nominal: u64) -> u64 {
+        if nominal <= self.pilot {
+            return nominal;
+        }
+        let extra = self.rates[pixel] as f64 * (nominal - self.pilot) as f64 + self.dither[pixel] as f64;
+        self.pilot + extra.floor() as u64
+    }
+
+    /// The relative rates (row-major, mean 1).
+    pub fn rates(&self) -> &[f32] {
+        &self.rates
+    }
+}
+
+/// Rates proportional to `sigma`, mean 1, clamped to [MIN_RATE, MAX_RATE] (the clamp and the normalisation
+/// alternate until they agree). A flat image gets rate 1 everywhere.
+fn normalized_rates(sigma: &[f32]) -> Vec<f32> {
+    let n = sigma.len().max(1) as f64;
+    let mean = sigma.iter().map(|&s| s as f64).sum::<f64>() / n;
+    if !(mean > 0.0 && mean.is_finite()) {
+        return vec![1.0; sigma.len()];
+    }
+    let mut scale = 1.0 / mean;
+    let mut rates = vec![1.0f32; sigma.len()];
+    for _ in 0..32 {
+        for (r, &s) in rates.iter_mut().zip(sigma) {
+            *r = ((s as f64 * scale) as f32).clamp(MIN_RATE, MAX_RATE);
+        }
+        let m = rates.iter().map(|&r| r as f64).sum::<f64>() / n;
+        if (m - 1.0).abs() < 1e-4 {
+            break;
+        }
+        scale /= m;
+    }
+    // The last clamp may leave the mean a hair off 1; divide it out exactly (rates may then leave the clamp by as
+    // much, which is harmless).
+    let m = rates.iter().map(|&r| r as f64).sum::<f64>() / n;
+    rates.iter_mut().for_each(|r| *r = (*r as f64 / m) as f32);
+    rates
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rates_average_one_and_respect_the_clamp() {
+        let sigma: Vec<f32> = (0..1000).map(|i| if i % 100 == 0 { 50.0 } else { (i % 7) as f32 * 0.1 }).collect();
+        let r = normalized_rates(&sigma);
+        let mean = r.iter().map(|&x| x as f64).sum::<f64>() / r.len() as f64;
+        assert!((mean - 1.0).abs() < 1e-5, "mean rate {mean}");
+        assert!(r.iter().all(|&x| (MIN_RATE * 0.99..=MAX_RATE * 1.01).contains(&x)));
+        assert_eq!(normalized_rates(&[0.0; 5]), vec![1.0; 5]);
+    }
+
+    #[test]
+    fn counts_are_monotone_and_total_the_budget() {
+        // A 32x32 pilot of 4 samples per pixel: a noisy column (samples 0 and 2: mean 1, E[v^2] 2) in a flat image.
+        let (w, h) = (32u32, 32u32);
+        let n = (w * h) as usize;
+        let noisy = |i: usize| i % 32 == 16;
+        let sums: Vec<Vec3> = (0..n).map(|_| Vec3::splat(4.0)).collect();
+        let squares: Vec<Vec3> = (0..n).map(|i| Vec3::splat(if noisy(i) { 8.0 } else { 4.0 })).collect();
+        let a = SampleAllocation::from_pilot(w, h, 4, &sums, &squares, 7);
+        for p in 0..n {
+            let mut last = 0;
+            for s in 0..200 {
+                let c = a.samples_before(p, s);
+                assert!(c >= last);
+                last = c;
+            }
+            assert_eq!(a.samples_before(p, 3), 3, "the pilot is uniform");
+        }
+        let total: u64 = (0..n).map(|p| a.samples_before(p, 260)).sum();
+        let expect = 260 * n as u64;
+        assert!((total as f64 - expect as f64).abs() < 0.01 * expect as f64, "{total} vs {expect}");
+        // Pixels beside the column see its variance in their neighbourhood and get more samples than flat ones.
+        assert!(a.samples_before(15, 260) > 2 * a.samples_before(5, 260));
+    }
+
+    #[test]
+    fn a_pixel_rate_ignores_its_own_pilot_samples() {
+        let (w, h) = (5u32, 5u32);
+        let n = (w * h) as usize;
+        let mut sums = vec![Vec3::ONE; n];
+        let mut squares = vec![Vec3::ONE; n];
+        let a = SampleAllocation::from_pilot(w, h, 1, &sums, &squares, 1);
+        assert_eq!(a.rates()[12], 1.0, "a flat image samples uniformly");
+        // Change only the centre pixel's sample: its neighbours see it, the centre does not.
+        sums[12] = Vec3::splat(9.0);
+        squares[12] = Vec3::splat(81.0);
+        let b = SampleAllocation::from_pilot(w, h, 1, &sums, &squares, 1);
+        assert!(b.rates()[11] > b.rates()[0], "the centre's neighbours see its variance");
+        assert_eq!(b.rates()[12], b.rates()[0], "the centre's own samples do not raise its rate");
+    }
+}
