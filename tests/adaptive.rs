@@ -37,7 +37,7 @@ fn adaptive_sampling_is_unbiased_and_lowers_the_cornell_error_at_equal_samples()
     let pilot = spp as u64 / 16;
     assert!(counts.iter().all(|&c| c >= pilot), "every pixel keeps its pilot samples");
     let most = *counts.iter().max().unwrap();
-    assert!(most > 4 * spp as u64, "the noisiest pixels get several times the uniform rate (most: {most})");
+    assert!(most > 3 * spp as u64, "the noisiest pixels get several times the uniform rate (most: {most})");
     // Where the samples went: the pixel with the most lies on the emitter's edge (rows 7-11 of 64 hold the light).
     let busiest = counts.iter().position(|&c| c == most).unwrap();
     let row = busiest / 64;
