@@ -21,7 +21,8 @@ with a message):
     untimed warm-up render (JIT compilation); a timed render is `mi.render(scene, spp=N, seed=s)` plus the
     conversion of the image to numpy (as ../shared/refs/curves2.md measured).
   - Prism: `prism render SCENE --spp N --threads 2 --seed s --checkpoint 0 -o x.exr` plus the config's arguments
-    (default `--integrator "envlight(max_depth: D)"`, D the reference's); time = the render time Prism prints
+    (default two configs: `--integrator "envlight(max_depth: D)"`, D the reference's, and the same with
+    `--adaptive`); time = the render time Prism prints
     (set-up excluded, like Mitsuba's load), and the process's wall time too. Also at --prism-extra-spp (default 4x
     the largest spp), so that Prism's curve reaches the peer's lowest error without extrapolation.
   - For each repetition and each spp the renderers run back to back, the order alternating, so a machine whose
@@ -274,9 +275,10 @@ def parse_args():
     ap.add_argument("--threads", type=int, default=2, help="threads for both renderers (default 2)")
     ap.add_argument("--prism", action="append", metavar="LABEL=ARGS",
                     help="a Prism configuration: a label and extra `prism render` arguments, `{max_depth}` replaced "
-                         "by the reference's (repeatable; default: "
-                         "\"envlight=--integrator 'envlight(max_depth: {max_depth})'\"; ARGS is split as a shell "
-                         "would)")
+                         "by the reference's (repeatable; default: the path tracer with uniform and with adaptive "
+                         "sampling, \"envlight=--integrator 'envlight(max_depth: {max_depth})'\" and "
+                         "\"adaptive=--integrator 'envlight(max_depth: {max_depth})' --adaptive\"; ARGS is split as "
+                         "a shell would)")
     ap.add_argument("--ppm", action="store_true",
                     help="also Prism's `ppm` on cornell_caustic (--integrator \"ppm(max_depth: 12)\")")
     ap.add_argument("-o", "--out", type=Path, default=PEER / "results", help="output directory")
@@ -293,7 +295,10 @@ def parse_args():
         sys.exit("error: --spp and --prism-extra-spp take comma-separated positive integers")
     if not a.spp or min(a.spp) < 1 or a.reps < 1 or a.threads < 1:
         sys.exit("error: --spp, --reps and --threads must be positive")
-    configs = a.prism or ["envlight=--integrator 'envlight(max_depth: {max_depth})'"]
+    configs = a.prism or [
+        "envlight=--integrator 'envlight(max_depth: {max_depth})'",
+        "adaptive=--integrator 'envlight(max_depth: {max_depth})' --adaptive",
+    ]
     a.configs = []
     for c in configs:
         label, _, args = c.partition("=")
