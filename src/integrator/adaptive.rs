@@ -91,14 +91,15 @@ impl SampleAllocation {
         SampleAllocation { pilot, rates, dither }
     }
 
-    /// Samples pixel `pixel` has received once every pixel would have `nominal` under uniform sampling.
+    /// Samples pixel `pixel` has received once every pixel would have `nominal` under uniform sampling. Capped at
+    /// `u32::MAX`, the length of a pixel's sample sequence (only reachable with absurd `spp`).
     #[inline]
     pub fn samples_before(&self, pixel: usize, nominal: u64) -> u64 {
         if nominal <= self.pilot {
             return nominal;
         }
         let extra = self.rates[pixel] as f64 * (nominal - self.pilot) as f64 + self.dither[pixel] as f64;
-        self.pilot + extra.floor() as u64
+        (self.pilot + extra.floor() as u64).min(u32::MAX as u64)
     }
 
     /// The relative rates (row-major, mean 1).
@@ -168,6 +169,7 @@ mod tests {
             }
             assert_eq!(a.samples_before(p, 3), 3, "the pilot is uniform");
         }
+        assert!((0..n).all(|p| a.samples_before(p, u32::MAX as u64) <= u32::MAX as u64), "indices stay in u32");
         let total: u64 = (0..n).map(|p| a.samples_before(p, 260)).sum();
         let expect = 260 * n as u64;
         assert!((total as f64 - expect as f64).abs() < 0.01 * expect as f64, "{total} vs {expect}");
