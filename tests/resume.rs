@@ -51,6 +51,9 @@ fn path_traced_shards_merge_bit_identically() {
     // Adaptive: every shard after the first re-renders the pilot pass for the rates, and adds only its own passes.
     let adaptive = ["--size", "48x48", "--spp", "12", "--passes", "6", "--adaptive"];
     shards_merge_exactly("shards-envlight-adaptive-3", &scene, &adaptive, 3);
+    // With an explicit pattern, stratified over the pilot and then over each pixel's samples after it.
+    let pattern = ["--size", "48x48", "--spp", "12", "--passes", "6", "--adaptive", "--pattern", "stratified"];
+    shards_merge_exactly("shards-envlight-adaptive-pattern-2", &scene, &pattern, 2);
 }
 
 #[test]

@@ -120,3 +120,30 @@ fn an_empty_scene_renders_its_background() {
     let img = render_ron("(camera: (size: (4, 4)), background: (0.25, 0.5, 1))", spp(1));
     assert!(img.pixels.iter().all(|p| *p == Vec3::new(0.25, 0.5, 1.0)));
 }
+
+/// A plugin integrator whose tiles hold fewer counts than pixels.
+struct MalformedTiles;
+
+impl prism::integrator::Integrator for MalformedTiles {
+    fn render_pass(
+        &mut self,
+        _scene: &Scene,
+        pass: &prism::integrator::PassInfo,
+        _cancel: &std::sync::atomic::AtomicBool,
+    ) -> prism::integrator::PassOutput {
+        let (w, h) = (pass.settings.width, pass.settings.height);
+        let tile = prism::integrator::Tile { x0: 0, y0: 0, w, h };
+        let n = (w * h) as usize;
+        let t = prism::integrator::TileSamples { tile, counts: vec![1; n - 1], sums: vec![Vec3::ONE; n], nonfinite: 0 };
+        prism::integrator::PassOutput::Samples(vec![t])
+    }
+}
+
+#[test]
+fn a_plugin_tile_that_does_not_fit_the_film_is_an_error_not_a_panic() {
+    let mut app =
+        app_from_ron("(camera: (size: (8, 8)), render: (integrator: bad_tiles, spp: 1))", Overrides::default());
+    app.register_integrator("bad_tiles", Box::new(|_| Ok(Box::new(MalformedTiles))));
+    let err = app.run().unwrap_err().to_string();
+    assert!(err.contains("integrator `bad_tiles` returned a malformed tile") && err.contains("63 counts"), "{err}");
+}

@@ -58,6 +58,19 @@ pub struct TileSamples {
     pub nonfinite: u32,
 }
 
+impl TileSamples {
+    /// Whether the tile lies inside a `width` x `height` image and holds one sum and one count per pixel (a
+    /// plugin's tiles are checked before they reach the film).
+    pub fn fits(&self, width: u32, height: u32) -> bool {
+        let t = self.tile;
+        let n = t.w as u64 * t.h as u64;
+        t.x0 as u64 + t.w as u64 <= width as u64
+            && t.y0 as u64 + t.h as u64 <= height as u64
+            && self.sums.len() as u64 == n
+            && self.counts.len() as u64 == n
+    }
+}
+
 /// The result of one pass.
 #[derive(Clone, Debug)]
 pub enum PassOutput {

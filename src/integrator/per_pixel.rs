@@ -73,21 +73,26 @@ impl<T: PixelIntegrator> PerPixel<T> {
         for y in tile.y0..tile.y0 + tile.h {
             for x in tile.x0..tile.x0 + tile.w {
                 let pixel = y as u64 * s.width as u64 + x as u64;
+                let px = pixel as usize;
                 let pixel_key = hash_u64(s.seed ^ hash_u64(pixel)) as u32;
                 let mut sampler = Sampler::new(s.sampler, pixel_key, Rng::for_pixel(s.seed, pixel, pass.index as u64));
-                // This pass's samples of the pixel's sequence: the nominal range, or the allocation's.
-                let (first, end, total) = match &self.allocation {
-                    Some(a) => (
-                        a.samples_before(pixel as usize, pass.first_sample),
-                        a.samples_before(pixel as usize, next_nominal),
-                        s.spp.map(|n| a.samples_before(pixel as usize, n as u64)),
-                    ),
-                    None => (pass.first_sample, next_nominal, s.spp.map(u64::from)),
+                // This pass's samples of the pixel's sequence (the nominal range, or the allocation's), and the
+                // set an explicit pattern stratifies them over: `(first index, count, key)`. With a known total, the
+                // pixel's whole render (its key the same in every pass); in an adaptive render the pilot, then the
+                // pixel's samples after it (their count is known once the pilot is); with a time budget, the pass.
+                let (first, end, strata) = match &self.allocation {
+                    Some(a) => {
+                        let (f, e) = (a.samples_before(px, pass.first_sample), a.samples_before(px, next_nominal));
+                        let rest = s
+                            .spp
+                            .map(|n| (f - a.pilot, a.samples_before(px, n as u64) - a.pilot, pixel_key ^ 0x5bd1_e995));
+                        (f, e, rest)
+                    }
+                    None if s.adaptive => (pass.first_sample, next_nominal, Some((0, pass.spp as u64, pixel_key))),
+                    None => (pass.first_sample, next_nominal, s.spp.map(|n| (pass.first_sample, n as u64, pixel_key))),
                 };
-                // With a known total, a pattern stratifies pixel positions over the whole render (the pixel's key is
-                // the same in every pass, each pass takes the next sample indices); otherwise within the pass.
-                let (base, total, key) = match total {
-                    Some(n) => (first as u32, n.min(u32::MAX as u64) as u32, pixel_key),
+                let (base, total, key) = match strata {
+                    Some((b, n, k)) => (b as u32, n.min(u32::MAX as u64) as u32, k),
                     None => (0, (end - first) as u32, sampler.rng().next_u32()),
                 };
                 let centre = Vec2::new(x as f32 + 0.5, y as f32 + 0.5);

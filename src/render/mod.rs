@@ -230,6 +230,20 @@ pub fn accumulate_system(_world: &mut World, res: &mut Resources) -> Result<()> 
         return Ok(());
     };
     let film = res.film.as_mut().ok_or_else(|| PrismError::invalid("no film: the Prepare stage did not run"))?;
+    if let PassOutput::Samples(tiles) = &out
+        && let Some(t) = tiles.iter().find(|t| !t.fits(film.width, film.height))
+    {
+        return Err(PrismError::invalid(format!(
+            "integrator `{}` returned a malformed tile at ({}, {}) size {}x{} with {} sums and {} counts",
+            res.settings.integrator.name,
+            t.tile.x0,
+            t.tile.y0,
+            t.tile.w,
+            t.tile.h,
+            t.sums.len(),
+            t.counts.len()
+        )));
+    }
     let complete = match &out {
         PassOutput::Samples(tiles) => tiles.len() == crate::integrator::tiles(film.width, film.height).len(),
         PassOutput::Estimate { complete, .. } => *complete,

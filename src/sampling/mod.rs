@@ -26,9 +26,10 @@ pub use sobol::{
 /// square on its own (so any `count` is unbiased), and a perfect square `count` gives full n x n stratification.
 #[inline]
 pub fn stratified_2d(i: u32, count: u32, scramble: u32, rng: &mut Rng) -> glam::Vec2 {
-    let n = (count as f32).sqrt().ceil().max(1.0) as u32;
+    // At most 65535^2 cells (a count near u32::MAX would overflow n * n); beyond them samples reuse strata.
+    let n = ((count as f32).sqrt().ceil().max(1.0) as u32).min(65535);
     let cells = n * n;
-    let cell = permute(i, cells, scramble);
+    let cell = permute(i % cells, cells, scramble);
     let (cx, cy) = (cell % n, cell / n);
     glam::Vec2::new((cx as f32 + rng.next_f32()) / n as f32, (cy as f32 + rng.next_f32()) / n as f32)
 }

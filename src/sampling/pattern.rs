@@ -53,7 +53,7 @@ impl PixelPattern {
             Self::Random => rng.next_2d(),
             Self::Stratified => stratified_2d(i, count, scramble, rng),
             Self::Uniform => {
-                let n = (count as f32).sqrt().ceil().max(1.0) as u32;
+                let n = ((count as f32).sqrt().ceil().max(1.0) as u32).min(65535);
                 let cell = i % (n * n);
                 Vec2::new(((cell % n) as f32 + 0.5) / n as f32, ((cell / n) as f32 + 0.5) / n as f32)
             }
