@@ -155,6 +155,7 @@ fn body(ctx: &mut Ctx, case: &SceneCase) -> String {
             accel,
             size: Some((w, h)),
             seed: None,
+            adaptive: method.adaptive,
         };
         for &b in &budgets {
             ctx.log(format!("{}: {label}, {}", case.name, budget_text(b)));

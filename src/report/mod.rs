@@ -123,11 +123,20 @@ pub(crate) struct RenderJob<'a> {
     pub accel: Option<AccelKind>,
     pub size: Option<(u32, u32)>,
     pub seed: Option<u64>,
+    pub adaptive: Option<bool>,
 }
 
 impl Default for RenderJob<'_> {
     fn default() -> Self {
-        RenderJob { scene: Path::new(""), integrator: None, sampler: None, accel: None, size: None, seed: None }
+        RenderJob {
+            scene: Path::new(""),
+            integrator: None,
+            sampler: None,
+            accel: None,
+            size: None,
+            seed: None,
+            adaptive: None,
+        }
     }
 }
 
@@ -141,6 +150,7 @@ impl RenderJob<'_> {
             accel: self.accel,
             size: self.size,
             seed: self.seed,
+            adaptive: self.adaptive,
             ..Default::default()
         };
         app

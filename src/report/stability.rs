@@ -92,7 +92,14 @@ fn renders(ctx: &mut Ctx, c: &RendersCase) -> String {
                 continue;
             }
         };
-        let job = RenderJob { scene, integrator: v.integrator.as_deref(), sampler: v.sampler, accel, size, seed: None };
+        let job = RenderJob {
+            scene,
+            integrator: v.integrator.as_deref(),
+            sampler: v.sampler,
+            accel,
+            size,
+            ..Default::default()
+        };
         let budget = match (v.time, v.spp) {
             (Some(t), _) => Budget::Seconds(t),
             (None, n) => Budget::Spp(n.unwrap_or(16)),

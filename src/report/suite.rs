@@ -71,7 +71,8 @@ pub struct ReferenceRender {
     pub scene: Option<PathBuf>,
 }
 
-/// One curve of a convergence chart: an integrator spec and optionally a sampler and accelerator.
+/// One curve of a convergence chart: an integrator spec and optionally a sampler, an accelerator and adaptive
+/// sampling.
 #[derive(Deserialize, Debug, Clone)]
 #[serde(deny_unknown_fields)]
 pub struct Method {
@@ -83,13 +84,22 @@ pub struct Method {
     pub sampler: Option<SamplerKind>,
     #[serde(default)]
     pub accel: Option<String>,
+    /// Adaptive sampling on or off (default: the scene's setting).
+    #[serde(default)]
+    pub adaptive: Option<bool>,
 }
 
 impl Method {
     pub fn label(&self) -> String {
-        self.label.clone().unwrap_or_else(|| match self.sampler {
-            Some(s) => format!("{} {}", self.integrator, s.name()),
-            None => self.integrator.clone(),
+        self.label.clone().unwrap_or_else(|| {
+            let mut l = match self.sampler {
+                Some(s) => format!("{} {}", self.integrator, s.name()),
+                None => self.integrator.clone(),
+            };
+            if self.adaptive == Some(true) {
+                l += " adaptive";
+            }
+            l
         })
     }
 }
