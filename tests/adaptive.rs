@@ -4,6 +4,8 @@
 //! emitter's edges (where a pixel straddles radiance 18 and 0.3) get the samples.
 
 use crate::common::{app_from_file, downsample, prism, refs, scene_path};
+use glam::Vec3;
+use prism::integrator::{MAX_RATE, MIN_ADAPTIVE_PIXELS, MIN_RATE, SampleAllocation};
 use prism::settings::Overrides;
 
 /// Render the Cornell box at 64x64; the image and the film's per-pixel sample counts.
@@ -61,4 +63,98 @@ fn adaptive_sampling_with_a_photon_mapper_is_a_warning_not_an_effect() {
     let o = prism(&[&args[..], &["--adaptive", "-o", out.to_str().unwrap()]].concat());
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(o.status.success() && err.contains("adaptive sampling has no effect with the `ppm` integrator"), "{err}");
+}
+
+// The allocation itself: rates, counts, and what a pixel's own samples may change.
+#[test]
+fn rates_average_one_and_respect_the_clamp() {
+    // A 40x40 pilot (1 sample per pixel): a few very noisy neighbourhoods among mildly noisy and flat ones.
+    let n = 40 * 40;
+    let sums: Vec<Vec3> = (0..n).map(|i| Vec3::splat(if i % 97 == 0 { 60.0 } else { (i % 7) as f32 * 0.1 })).collect();
+    let squares: Vec<Vec3> = sums.iter().map(|s| *s * *s).collect();
+    let a = SampleAllocation::from_pilot(40, 40, 1, &sums, &squares, 3);
+    let r = a.rates();
+    let mean = r.iter().map(|&x| x as f64).sum::<f64>() / r.len() as f64;
+    assert!((mean - 1.0).abs() < 1e-5, "mean rate {mean}");
+    assert!(r.iter().all(|&x| (MIN_RATE * 0.99..=MAX_RATE * 1.01).contains(&x)));
+    assert!(r.iter().any(|&x| x > 0.9 * MAX_RATE) && r.iter().any(|&x| x < 1.1 * MIN_RATE), "both clamps reached");
+    // A flat image samples uniformly.
+    let flat = SampleAllocation::from_pilot(40, 40, 1, &vec![Vec3::ONE; n], &vec![Vec3::ONE; n], 3);
+    assert!(flat.rates().iter().all(|&x| x == 1.0));
+}
+
+#[test]
+fn counts_are_monotone_and_total_the_budget() {
+    // A 32x32 pilot of 4 samples per pixel: a noisy column (samples 0 and 2: mean 1, E[v^2] 2) in a flat image.
+    let (w, h) = (32u32, 32u32);
+    let n = (w * h) as usize;
+    let noisy = |i: usize| i % 32 == 16;
+    let sums: Vec<Vec3> = (0..n).map(|_| Vec3::splat(4.0)).collect();
+    let squares: Vec<Vec3> = (0..n).map(|i| Vec3::splat(if noisy(i) { 8.0 } else { 4.0 })).collect();
+    let a = SampleAllocation::from_pilot(w, h, 4, &sums, &squares, 7);
+    for p in 0..n {
+        let mut last = 0;
+        for s in 0..200 {
+            let c = a.samples_before(p, s);
+            assert!(c >= last);
+            last = c;
+        }
+        assert_eq!(a.samples_before(p, 3), 3, "the pilot is uniform");
+    }
+    assert!((0..n).all(|p| a.samples_before(p, u32::MAX as u64) <= u32::MAX as u64), "indices stay in u32");
+    let total: u64 = (0..n).map(|p| a.samples_before(p, 260)).sum();
+    let expect = 260 * n as u64;
+    assert!((total as f64 - expect as f64).abs() < 0.01 * expect as f64, "{total} vs {expect}");
+    // Pixels beside the column see its variance in their neighbourhood and get more samples than flat ones.
+    assert!(a.samples_before(15, 260) > 2 * a.samples_before(5, 260));
+}
+
+#[test]
+fn a_pixel_rate_depends_on_its_own_pilot_samples_only_through_the_image_wide_normalisation() {
+    // A 40x40 pilot of 4 samples per pixel with smoothly varying noise (E[v^2] - E[v]^2 = 0.1 + x/40).
+    let (w, h) = (40u32, 40u32);
+    let n = (w * h) as usize;
+    let mut sums = vec![Vec3::splat(4.0); n];
+    let mut squares: Vec<Vec3> = (0..n).map(|i| Vec3::splat(4.0 * (1.1 + (i % 40) as f32 / 40.0))).collect();
+    let a = SampleAllocation::from_pilot(w, h, 4, &sums, &squares, 1);
+    // Change only pixel c's samples, by a lot: its neighbours' rates jump, its own moves by O(8 / pixels).
+    let c = 20 * 40 + 20;
+    sums[c] = Vec3::splat(40.0);
+    squares[c] = Vec3::splat(400.0);
+    let b = SampleAllocation::from_pilot(w, h, 4, &sums, &squares, 1);
+    assert!(b.rates()[c - 1] > 2.0 * a.rates()[c - 1], "the neighbours see the change");
+    let own = (b.rates()[c] / a.rates()[c] - 1.0).abs();
+    assert!(own < 8.0 * 20.0 / n as f32, "own rate moved by {own}");
+    // A pixel far away in the same column (the same noise) gets exactly the same rate: the changed pixel's
+    // own rate has no link to its samples beyond the normalisation every pixel shares.
+    let far = 5 * 40 + 20;
+    assert_eq!(b.rates()[c], b.rates()[far]);
+    assert!(own > 0.0, "the normalisation does move");
+}
+
+#[test]
+fn small_images_and_overflowing_samples_do_not_mislead_the_allocation() {
+    // Below MIN_ADAPTIVE_PIXELS the allocation is uniform.
+    let side = (MIN_ADAPTIVE_PIXELS as f64).sqrt() as u32 - 1;
+    let m = (side * side) as usize;
+    let pilot = |m: usize| -> (Vec<Vec3>, Vec<Vec3>) {
+        let sums: Vec<Vec3> = (0..m).map(|i| Vec3::splat((i % 5) as f32)).collect();
+        let squares = sums.iter().map(|s| *s * *s * 2.0 + Vec3::ONE).collect();
+        (sums, squares)
+    };
+    let (sums, squares) = pilot(m);
+    let small = SampleAllocation::from_pilot(side, side, 2, &sums, &squares, 0);
+    assert!(small.rates().iter().all(|&r| r == 1.0));
+    // The same kind of pilot on an image just large enough is allocated unevenly.
+    let (sums, squares) = pilot(((side + 1) * (side + 1)) as usize);
+    let large = SampleAllocation::from_pilot(side + 1, side + 1, 2, &sums, &squares, 0);
+    assert!(large.rates().iter().any(|&r| r != 1.0));
+    // A sample whose square overflows marks its neighbourhood as the noisiest, not the smoothest.
+    let n = 32 * 32;
+    let sums: Vec<Vec3> = (0..n).map(|i| Vec3::splat(1.0 + (i % 3) as f32)).collect();
+    let mut squares: Vec<Vec3> = sums.iter().map(|s| *s * *s * 1.5).collect();
+    squares[500] = Vec3::splat(f32::INFINITY);
+    let a = SampleAllocation::from_pilot(32, 32, 1, &sums, &squares, 0);
+    let max = a.rates().iter().cloned().fold(0.0f32, f32::max);
+    assert_eq!(a.rates()[501], max);
 }

@@ -13,7 +13,7 @@ mod adaptive;
 mod per_pixel;
 mod registry;
 
-pub use adaptive::{MAX_RATE, MIN_RATE, SampleAllocation};
+pub use adaptive::{MAX_RATE, MIN_ADAPTIVE_PIXELS, MIN_RATE, SampleAllocation};
 pub use per_pixel::{PerPixel, TILE_SIZE, tiles};
 pub use registry::{IntegratorFactory, IntegratorRegistry};
 
