@@ -60,14 +60,9 @@ impl Film {
     /// receives exactly the same additions, so the film does not depend on the thread count.
     fn add_tiles(&mut self, tiles: &[TileSamples]) {
         let (w, h) = (self.width, self.height);
-        let inside = |t: &TileSamples| {
-            t.tile.y0.is_multiple_of(TILE_SIZE)
-                && t.tile.h <= TILE_SIZE
-                && t.tile.x0 + t.tile.w <= w
-                && t.tile.y0 + t.tile.h <= h
-                && t.sums.len() == (t.tile.w * t.tile.h) as usize
-                && t.counts.len() == t.sums.len()
-        };
+        // Tiles inside one band of `TILE_SIZE` rows go to the parallel path; others (a plugin's own tiling) add
+        // serially.
+        let inside = |t: &TileSamples| t.tile.y0.is_multiple_of(TILE_SIZE) && t.tile.h <= TILE_SIZE && t.fits(w, h);
         self.nonfinite += tiles.iter().map(|t| t.nonfinite as u64).sum::<u64>();
         if w == 0 || !tiles.iter().all(inside) {
             tiles.iter().for_each(|t| Self::add_tile(&mut self.sum, &mut self.count, w, 0, t));

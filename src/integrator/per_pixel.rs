@@ -183,24 +183,20 @@ impl<T: PixelIntegrator> Integrator for PerPixel<T> {
 
     fn render_pass(&mut self, scene: &Scene, pass: &PassInfo, cancel: &AtomicBool) -> PassOutput {
         let s = pass.settings;
-        if !s.adaptive || self.allocation.is_some() {
-            let out = self.render_tiles(scene, pass, cancel, false);
-            return PassOutput::Samples(out.into_iter().map(|t| t.samples).collect());
-        }
-        let pilot = PassInfo { index: 0, spp: s.samples_in_pass(0), first_sample: 0, settings: s };
-        if pass.index == 0 {
-            // The pilot: a uniform pass whose squared samples set the rates of every later pass.
-            let out = self.render_tiles(scene, pass, cancel, true);
+        let samples = |out: Vec<TileOut>| PassOutput::Samples(out.into_iter().map(|t| t.samples).collect());
+        if s.adaptive && self.allocation.is_none() {
+            // The pilot: pass 0, uniform, whose squared samples set the rates of every later pass. A shard or a
+            // resumed render that starts later renders it again (the same samples) for the rates only.
+            let pilot = PassInfo { index: 0, spp: s.samples_in_pass(0), first_sample: 0, settings: s };
+            let out = self.render_tiles(scene, &pilot, cancel, true);
             self.allocation = Self::allocation_from(s, pilot.spp as u64, &out);
-            return PassOutput::Samples(out.into_iter().map(|t| t.samples).collect());
+            if pass.index == 0 {
+                return samples(out);
+            }
+            if self.allocation.is_none() {
+                return PassOutput::Samples(vec![]);
+            }
         }
-        // A shard or a resumed render that starts later: render the pilot again (the same samples) for its rates only.
-        let out = self.render_tiles(scene, &pilot, cancel, true);
-        self.allocation = Self::allocation_from(s, pilot.spp as u64, &out);
-        if self.allocation.is_none() {
-            return PassOutput::Samples(vec![]);
-        }
-        let out = self.render_tiles(scene, pass, cancel, false);
-        PassOutput::Samples(out.into_iter().map(|t| t.samples).collect())
+        samples(self.render_tiles(scene, pass, cancel, false))
     }
 }
