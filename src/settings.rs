@@ -95,7 +95,7 @@ pub enum AccelKind {
     CwBvh,
     /// SAH kd-tree (`src/accel/kdtree.rs`).
     KdTree,
-    /// Uniform grid with the given resolution (`src/accel/grid.rs`).
+    /// Uniform grid with the given resolution (`src/accel/grid/`).
     Grid(GridResolution),
     /// Test every primitive: the ground truth.
     Brute,

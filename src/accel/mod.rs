@@ -10,7 +10,7 @@
 //! | BVH (the default; 8-wide, SoA boxes, packet leaves) | `wide_bvh.rs` | obvhs PLOC, parallel; top-down for clustered input |
 //! | obvhs CWBVH (`cwbvh`) | `bvh.rs` | obvhs PLOC, parallel |
 //! | SAH kd-tree | `kdtree.rs`, `kdtree_build.rs` | Wald & Havran O(N log N), perfect splits |
-//! | uniform grid | `grid.rs` | per-cell triangle/box overlap, nested grids for crowded cells |
+//! | uniform grid | `grid/` | per-cell triangle/box overlap, nested grids for crowded cells |
 //! | brute force | `brute.rs` | none |
 //!
 //! [`Scene`]: crate::scene::Scene
