@@ -15,11 +15,14 @@ What it does:
      Prism with `cargo build --release` (a no-op when up to date). Nothing is written outside `target/` except the
      Debian package.
   2. For each scene (default: the dragon 100k, the Stanford bunny 69k, the 6.837 bunny_40k and the teapot in a
-     stadium, `teapot_in_stadium.ron` beside this script) and each round: runs `prism bench SCENE --accel bvh
+     stadium, `teapot_in_stadium.ron` beside this script, and the 36-triangle Cornell box of the equal-error
+     comparison with Mitsuba, `scenes/cornell_box.ron`) and each round: runs `prism bench SCENE --accel bvh
      --threads 1 --seconds S --export-rays target/embree/rays/ROUND` and `embree_rays FILE --seconds S` on the file
      of round 0, alternating which goes first from round to round. Every round's export must be byte-identical to
      round 0's (the ray sets are deterministic), so both engines trace exactly the same rays; `embree_rays`
-     also checks that Embree's answer (closest primitive or t, occlusion) agrees with Prism's on every ray.
+     also checks that Embree's answer (closest primitive or t, occlusion) agrees with Prism's on every ray, and
+     sorts disagreements into Embree self-hits (rays that leave a surface, on which Embree, queried from
+     tnear = 0, finds that surface again within 1e-4 of the origin) and others.
   3. Prints and writes (`target/embree/embree_compare.csv`, `.md`) Mrays/s per ray kind (camera and bounce rays:
      closest hit; shadow rays: occlusion) for both engines, median over rounds, and the ratio Prism/Embree
      (median of the per-round ratios, with its min-max). Each engine's number in a round is its fastest pass over
@@ -49,6 +52,7 @@ DEFAULT_SCENES = [
     SHARED / "meshes" / "stanford-bunny.obj",
     SHARED / "mit6837" / "assignment5" / "bunny_40k.obj",
     HERE / "teapot_in_stadium.ron",
+    ROOT / "scenes" / "cornell_box.ron",
 ]
 KINDS = ["camera", "bounce", "shadow"]
 
@@ -104,8 +108,10 @@ def embree_bench(exe, rays_file, seconds, robust):
     res = json.loads(run(cmd).stdout)
     for s in res["sets"]:
         if s["agree"] != s["checked"]:
+            other = s["checked"] - s["agree"] - s.get("self_hits", 0)
             log(f"note: {rays_file.name}: Embree and Prism disagree on {s['checked'] - s['agree']} of "
-                f"{s['checked']} {s['kind']} rays")
+                f"{s['checked']} {s['kind']} rays: {s.get('self_hits', 0)} Embree self-hits (a hit within 1e-4 of "
+                f"the origin, on the surface the ray leaves), {other} other")
     return res
 
 
