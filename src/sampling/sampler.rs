@@ -19,6 +19,7 @@
 //!
 //! Everything is a pure function of (seed, pixel, sample index, dimension), so images do not depend on threads.
 
+use super::sobol::hash32;
 use super::{Rng, sobol_owen_1d_reversed, sobol_owen_2d_reversed};
 use glam::Vec2;
 
@@ -67,15 +68,6 @@ enum DeferredValue {
 
 /// Dimensions PerPixel uses before the integrator's: the pixel position (0-1) and the lens (2-3).
 pub const CAMERA_DIMENSIONS: u32 = 4;
-
-#[inline]
-fn hash32(mut x: u32) -> u32 {
-    x ^= x >> 16;
-    x = x.wrapping_mul(0x7feb352d);
-    x ^= x >> 15;
-    x = x.wrapping_mul(0x846ca68b);
-    x ^ (x >> 16)
-}
 
 /// The random numbers of one sample: call [`Sampler::start`] for each sample index, then draw with `next_1d` /
 /// `next_2d` in a fixed order. `rng()` gives the raw stream for decisions that need no stratification.

@@ -107,8 +107,9 @@ pub fn sobol_dim1_fast(i: u32) -> u32 {
     sobol_dim1(i)
 }
 
+/// A 32-bit integer hash (Wellons' "lowbias32"): keys of the scrambles, here and in the sampler.
 #[inline]
-fn hash32(mut x: u32) -> u32 {
+pub(super) fn hash32(mut x: u32) -> u32 {
     x ^= x >> 16;
     x = x.wrapping_mul(0x7feb352d);
     x ^= x >> 15;
