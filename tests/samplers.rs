@@ -158,6 +158,51 @@ fn samplers_are_deterministic_functions_of_index_and_dimension() {
     assert_eq!(b.next_2d(), first);
 }
 
+/// The sampler caches each 2D dimension's scramble keys across a pixel's samples (they depend on the pixel key and
+/// the dimension only). The cache must be invisible: a sampler that draws many samples, with 1D and 2D requests
+/// interleaved at shifting parities and paths long enough that dimensions share cache slots (more than 64
+/// dimensions), gives exactly the numbers of a fresh sampler per sample (whose cache is always empty).
+#[test]
+fn cached_scramble_keys_give_the_numbers_of_a_fresh_sampler() {
+    let mut reused = sobol(0x5eed);
+    let mut pattern = Rng::new(10, 11);
+    for index in 0..40u32 {
+        // The request pattern of this sample: 70 requests, 1D or 2D at random (a new pattern each sample, so a
+        // dimension is sometimes the start of a 2D request and sometimes a 1D one, or the second half of a pair).
+        let requests: Vec<bool> = (0..70).map(|_| pattern.next_u32() & 1 == 0).collect();
+        let mut fresh = sobol(0x5eed);
+        fresh.start(index);
+        reused.start(index);
+        for (r, &two) in requests.iter().enumerate() {
+            if two {
+                assert_eq!(reused.next_2d(), fresh.next_2d(), "sample {index} request {r}");
+            } else {
+                assert_eq!(reused.next_1d(), fresh.next_1d(), "sample {index} request {r}");
+            }
+        }
+        assert!(reused.dimension() > 64, "the paths must reach past the cache's 64 dimensions");
+    }
+    // The stratified sampler's Sobol points (its first vertex's light and BSDF requests) go through the same cache.
+    let mut reused = Sampler::new(SamplerKind::Stratified, 7, Rng::new(1, 2));
+    for index in 0..40u32 {
+        let mut fresh = Sampler::new(SamplerKind::Stratified, 7, Rng::new(1, 2));
+        reused.start(index);
+        fresh.start(index);
+        reused.skip_2d();
+        fresh.skip_2d();
+        if index % 3 == 0 {
+            // Shift the dimensions of this sample's Sobol requests.
+            reused.next_1d();
+            fresh.next_1d();
+        }
+        reused.next_2d();
+        fresh.next_2d();
+        for request in 2..4 {
+            assert_eq!(reused.next_2d(), fresh.next_2d(), "stratified sample {index} request {request}");
+        }
+    }
+}
+
 const LIT_PLANE: &str = r#"(
     camera: (eye: (0, 3, 0), target: (0, 0, 0), up: (0, 0, -1), fov: 50, size: (48, 48)),
     render: (integrator: envlight(max_depth: 2)),

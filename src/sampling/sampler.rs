@@ -20,7 +20,7 @@
 //! Everything is a pure function of (seed, pixel, sample index, dimension), so images do not depend on threads.
 
 use super::sobol::hash32;
-use super::{Rng, sobol_owen_1d_reversed, sobol_owen_2d_reversed};
+use super::{Rng, scramble_keys_2d, sobol_owen_1d_reversed, sobol_owen_2d_keyed};
 use glam::Vec2;
 
 /// Which sampler fills the dimensions of a sample.
@@ -85,12 +85,19 @@ pub struct Sampler {
     /// 2D requests so far in this sample (for `stratified`).
     requests_2d: u32,
     rng: Rng,
+    /// The Sobol scramble keys of 2D dimensions, which depend on (pixel key, dimension) only: computed by the
+    /// pixel's first sample and reused by the rest. Slot `(dim / 2) % KEY_SLOTS` holds the three keys and `dim + 1`
+    /// (0: empty); a dimension whose slot holds another recomputes its keys.
+    keys_2d: [[u32; 4]; KEY_SLOTS],
 }
+
+/// Cached 2D dimensions: 64 dimensions, a path of about nine vertices.
+const KEY_SLOTS: usize = 32;
 
 impl Sampler {
     /// A sampler whose Sobol points are scrambled by `key` and whose independent numbers come from `rng`.
     pub fn new(kind: SamplerKind, key: u32, rng: Rng) -> Self {
-        Sampler { kind, key, index: 0, index_rev: 0, dim: 0, requests_2d: 0, rng }
+        Sampler { kind, key, index: 0, index_rev: 0, dim: 0, requests_2d: 0, rng, keys_2d: [[0; 4]; KEY_SLOTS] }
     }
 
     /// Begin sample `index` of the sequence (dimension 0).
@@ -143,6 +150,23 @@ impl Sampler {
         (x >> 8) as f32 * (1.0 / 16_777_216.0)
     }
 
+    /// The Sobol sampler's point at dimensions `dim, dim + 1` of the current sample (scramble keys cached).
+    #[inline]
+    fn sobol_2d_at(&mut self, dim: u32) -> Vec2 {
+        let slot = (dim as usize >> 1) % KEY_SLOTS;
+        let tag = dim.wrapping_add(1);
+        if tag == 0 {
+            // The last dimension there is (tag 0 would read an empty slot as cached).
+            return sobol_owen_2d_keyed(self.index_rev, scramble_keys_2d(self.dim_key(dim)));
+        }
+        if self.keys_2d[slot][3] != tag {
+            let [a, b, c] = scramble_keys_2d(self.dim_key(dim));
+            self.keys_2d[slot] = [a, b, c, tag];
+        }
+        let [a, b, c, _] = self.keys_2d[slot];
+        sobol_owen_2d_keyed(self.index_rev, [a, b, c])
+    }
+
     /// One number in [0, 1).
     #[inline]
     pub fn next_1d(&mut self) -> f32 {
@@ -187,11 +211,9 @@ impl Sampler {
         let request = self.requests_2d;
         self.requests_2d += 1;
         match self.kind {
-            SamplerKind::Sobol => sobol_owen_2d_reversed(self.index_rev, self.dim_key(dim)),
+            SamplerKind::Sobol => self.sobol_2d_at(dim),
             // The first vertex's light and BSDF points (the first two 2D requests after the camera's).
-            SamplerKind::Stratified if (2..4).contains(&request) => {
-                sobol_owen_2d_reversed(self.index_rev, self.dim_key(dim))
-            }
+            SamplerKind::Stratified if (2..4).contains(&request) => self.sobol_2d_at(dim),
             _ => self.rng.next_2d(),
         }
     }

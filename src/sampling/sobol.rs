@@ -128,10 +128,26 @@ pub fn sobol_owen_2d(index: u32, seed: u32) -> glam::Vec2 {
 /// scrambles act: three bit reversals instead of seven.
 #[inline]
 pub fn sobol_owen_2d_reversed(index_rev: u32, seed: u32) -> glam::Vec2 {
+    sobol_owen_2d_keyed(index_rev, scramble_keys_2d(seed))
+}
+
+/// The three scramble keys of a 2D point set selected by `seed`: the index shuffle, the x and the y scramble. A
+/// sampler computes them once per pixel and dimension and reuses them for every sample of the pixel.
+#[inline]
+pub fn scramble_keys_2d(seed: u32) -> [u32; 3] {
+    [hash32(seed), hash32(seed ^ 0x9e37_79b9), hash32(seed ^ 0x85eb_ca6b)]
+}
+
+/// [`sobol_owen_2d_reversed`] from its [`scramble_keys_2d`].
+#[inline]
+pub fn sobol_owen_2d_keyed(index_rev: u32, keys: [u32; 3]) -> glam::Vec2 {
     // The shuffled index, reversed (the nested scramble of the index without its final reversal).
-    let r = laine_karras(index_rev, hash32(seed));
-    let x = laine_karras(r.reverse_bits(), hash32(seed ^ 0x9e37_79b9)).reverse_bits();
-    let y = laine_karras(apply(&SOBOL_DIM1_REVERSED, r), hash32(seed ^ 0x85eb_ca6b)).reverse_bits();
+    let r = laine_karras(index_rev, keys[0]);
+    let x = laine_karras(r.reverse_bits(), keys[1]);
+    let y = laine_karras(apply(&SOBOL_DIM1_REVERSED, r), keys[2]);
+    // Both final bit reversals as one 64-bit reversal: rev64(x : y) = rev32(y) : rev32(x).
+    let both = ((x as u64) << 32 | y as u64).reverse_bits();
+    let (x, y) = (both as u32, (both >> 32) as u32);
     const S: f32 = 1.0 / 16_777_216.0;
     glam::Vec2::new((x >> 8) as f32 * S, (y >> 8) as f32 * S)
 }
