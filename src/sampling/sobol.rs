@@ -125,7 +125,7 @@ pub fn sobol_owen_2d(index: u32, seed: u32) -> glam::Vec2 {
 
 /// [`sobol_owen_2d`] of the index whose bit reversal is `index_rev` (a sampler reverses its index once per sample).
 /// The same point as [`sobol_owen_2d_reference`], computed in the bit-reversed domain where Laine-Karras
-/// scrambles act: three bit reversals instead of seven.
+/// scrambles act: three bit reversals instead of seven (two of them paired into one 64-bit reversal).
 #[inline]
 pub fn sobol_owen_2d_reversed(index_rev: u32, seed: u32) -> glam::Vec2 {
     sobol_owen_2d_keyed(index_rev, scramble_keys_2d(seed))
