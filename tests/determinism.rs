@@ -1,4 +1,5 @@
-//! The same scene and seed give a bit-identical image whatever the thread count (uniform and adaptive sampling).
+//! The same scene and seed give a bit-identical image whatever the thread count (uniform and adaptive sampling),
+//! and the same EXR file byte for byte.
 
 use crate::common::{prism, root, scratch};
 use prism::io::read_exr;
@@ -13,7 +14,7 @@ fn exr_is_bit_identical_for_one_and_two_threads() {
 fn bit_identical_for_one_and_two_threads(adaptive: &str) {
     let dir = scratch("determinism");
     let scene = root().join("scenes/cornell_box.ron");
-    let mut images = vec![];
+    let (mut images, mut files) = (vec![], vec![]);
     for threads in ["1", "2"] {
         let out = dir.join(format!("t{threads}-{adaptive}.exr"));
         let o = prism(&[
@@ -33,11 +34,13 @@ fn bit_identical_for_one_and_two_threads(adaptive: &str) {
         ]);
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
         images.push(read_exr(&out).unwrap());
+        files.push(std::fs::read(&out).unwrap());
     }
     let bits = |img: &prism::io::Image| -> Vec<u32> {
         img.pixels.iter().flat_map(|p| p.to_array().map(f32::to_bits)).collect()
     };
     assert_eq!(bits(&images[0]), bits(&images[1]), "thread count changed the image (adaptive: {adaptive})");
+    assert!(files[0] == files[1], "same pixels, but the EXR files differ (adaptive: {adaptive})");
     assert!(images[0].mean().x > 0.05, "the image is not black");
 }
 

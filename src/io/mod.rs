@@ -119,14 +119,23 @@ pub fn write_tga(path: &Path, img: &Image) -> Result<()> {
     finish(&tmp, path)
 }
 
+/// Write `img` as a 32-bit float RGB OpenEXR file (written to a temporary file and renamed). The blocks are
+/// compressed in parallel but stored in increasing-y order, so the same image gives the same bytes whatever the
+/// thread count and timing (with the exr crate's default, unspecified order, blocks land in the order their
+/// compression finishes).
 pub fn write_exr(path: &Path, img: &Image) -> Result<()> {
+    use exr::prelude::{Encoding, LineOrder, SpecificChannels, WritableImage};
     let tmp = temp_path(path);
     let w = img.width as usize;
-    exr::prelude::write_rgb_file(&tmp, w, img.height as usize, |x, y| {
+    let channels = SpecificChannels::rgb(|exr::math::Vec2(x, y): exr::math::Vec2<usize>| {
         let p = img.pixels[y * w + x];
         (p.x, p.y, p.z)
-    })
-    .map_err(|e| PrismError::format(path, format!("cannot write EXR: {e}")))?;
+    });
+    let encoding = Encoding { line_order: LineOrder::Increasing, ..Encoding::default() };
+    exr::image::Image::from_encoded_channels((w, img.height as usize), encoding, channels)
+        .write()
+        .to_file(&tmp)
+        .map_err(|e| PrismError::format(path, format!("cannot write EXR: {e}")))?;
     finish(&tmp, path)
 }
 
