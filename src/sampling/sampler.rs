@@ -19,8 +19,8 @@
 //!
 //! Everything is a pure function of (seed, pixel, sample index, dimension), so images do not depend on threads.
 
-use super::sobol::hash32;
-use super::{Rng, scramble_keys_2d, sobol_owen_1d_reversed, sobol_owen_2d_keyed};
+use super::sobol::{hash32, scramble_keys_2d, sobol_owen_2d_keyed};
+use super::{Rng, sobol_owen_1d_reversed};
 use glam::Vec2;
 
 /// Which sampler fills the dimensions of a sample.

@@ -120,15 +120,7 @@ pub(super) fn hash32(mut x: u32) -> u32 {
 /// Point `index` of the scrambled 2D Sobol sequence selected by `seed`, in [0,1)^2.
 #[inline]
 pub fn sobol_owen_2d(index: u32, seed: u32) -> glam::Vec2 {
-    sobol_owen_2d_reversed(index.reverse_bits(), seed)
-}
-
-/// [`sobol_owen_2d`] of the index whose bit reversal is `index_rev` (a sampler reverses its index once per sample).
-/// The same point as [`sobol_owen_2d_reference`], computed in the bit-reversed domain where Laine-Karras
-/// scrambles act: three bit reversals instead of seven (two of them paired into one 64-bit reversal).
-#[inline]
-pub fn sobol_owen_2d_reversed(index_rev: u32, seed: u32) -> glam::Vec2 {
-    sobol_owen_2d_keyed(index_rev, scramble_keys_2d(seed))
+    sobol_owen_2d_keyed(index.reverse_bits(), scramble_keys_2d(seed))
 }
 
 /// The three scramble keys of a 2D point set selected by `seed`: the index shuffle, the x and the y scramble. A
@@ -138,7 +130,10 @@ pub fn scramble_keys_2d(seed: u32) -> [u32; 3] {
     [hash32(seed), hash32(seed ^ 0x9e37_79b9), hash32(seed ^ 0x85eb_ca6b)]
 }
 
-/// [`sobol_owen_2d_reversed`] from its [`scramble_keys_2d`].
+/// [`sobol_owen_2d`] from its [`scramble_keys_2d`], for the index whose bit reversal is `index_rev` (a sampler
+/// reverses its index once per sample). The same point as [`sobol_owen_2d_reference`], computed in the
+/// bit-reversed domain where Laine-Karras scrambles act: three bit reversals instead of seven (two of them paired
+/// into one 64-bit reversal).
 #[inline]
 pub fn sobol_owen_2d_keyed(index_rev: u32, keys: [u32; 3]) -> glam::Vec2 {
     // The shuffled index, reversed (the nested scramble of the index without its final reversal).
