@@ -30,6 +30,7 @@ mod patch_stability;
 mod plugin;
 mod ppm;
 mod reliability;
+mod reliability_work;
 mod report;
 mod resume;
 mod samplers;
