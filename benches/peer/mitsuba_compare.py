@@ -36,6 +36,13 @@ interpolated in log-log to the time they reach it (as src/converge.rs::time_to_e
 extrapolated from the nearest segment), divided by the peer's median time. The spread is the min-max of the same
 ratio computed from each repetition's own points. Where NAME.json gives the reference's own noise, a ratio with
 both errors corrected for it (sqrt(rmse^2 - noise^2)) is shown too.
+
+Where along a path each renderer spends its time (`--cost-by-depth`): both path tracers (Mitsuba with `ldsampler`,
+Prism uniform) at each given max_depth and the first --spp, interleaved, median of --reps; nanoseconds per sample
+and thread, and what each extra depth adds (max_depth 1: camera rays and emitters seen directly; 2: plus direct
+lighting and the first bounce ray; ...). Output mitsuba_cost_by_depth.md:
+
+    python3 benches/peer/mitsuba_compare.py --scenes cornell --spp 64 --reps 3 --cost-by-depth 1,2,3,8
 """
 import argparse
 import json
@@ -281,6 +288,10 @@ def parse_args():
                          "a shell would)")
     ap.add_argument("--ppm", action="store_true",
                     help="also Prism's `ppm` on cornell_caustic (--integrator \"ppm(max_depth: 12)\")")
+    ap.add_argument("--cost-by-depth", metavar="D1,D2,...", default="",
+                    help="instead of the equal-error comparison: time both renderers' path tracers (Mitsuba with "
+                         "ldsampler) with each max_depth at the first --spp, interleaved, and print the cost per "
+                         "sample and thread (where each renderer spends its time along a path), e.g. 1,2,3,8")
     ap.add_argument("-o", "--out", type=Path, default=PEER / "results", help="output directory")
     a = ap.parse_args()
     a.scenes = [s for s in a.scenes.split(",") if s]
@@ -295,6 +306,14 @@ def parse_args():
         sys.exit("error: --spp and --prism-extra-spp take comma-separated positive integers")
     if not a.spp or min(a.spp) < 1 or a.reps < 1 or a.threads < 1:
         sys.exit("error: --spp, --reps and --threads must be positive")
+    try:
+        a.cost_by_depth = [int(d) for d in a.cost_by_depth.split(",") if d]
+    except ValueError:
+        sys.exit("error: --cost-by-depth takes comma-separated integers (max_depth values, -1 unlimited)")
+    if any(d == 0 or d < -1 for d in a.cost_by_depth):
+        sys.exit("error: --cost-by-depth: each max_depth must be -1 (unlimited) or at least 1")
+    if a.cost_by_depth and not is_ld(a.spp[0]):
+        sys.exit(f"error: --cost-by-depth renders at the first --spp, {a.spp[0]}, which ldsampler does not take (4^k)")
     configs = a.prism or [
         "envlight=--integrator 'envlight(max_depth: {max_depth})'",
         "adaptive=--integrator 'envlight(max_depth: {max_depth})' --adaptive",
@@ -443,10 +462,64 @@ def summarize(a, rows, versions):
     log(f"wrote {a.out}/mitsuba_compare.md, mitsuba_compare_raw.csv, mitsuba_compare_ratios.csv")
 
 
+def cost_by_depth(a):
+    """Nanoseconds per sample and thread of each path tracer with each max_depth: where along a path the time goes."""
+    import numpy as np
+    prism = ROOT / "target" / "release" / "prism"
+    a.out.mkdir(parents=True, exist_ok=True)
+    tmp = PEER / "tmp"
+    tmp.mkdir(exist_ok=True)
+    spp = a.spp[0]
+    md = [f"Cost per sample and thread by max_depth, {spp} spp, {a.threads} threads, median of {a.reps} interleaved "
+          "repetitions (Mitsuba `ldsampler`, Prism `envlight`, uniform sampling).", "",
+          "| scene | max_depth | Mitsuba ns | Prism ns | Prism / Mitsuba | Mitsuba ns added by this depth | Prism ns added |",
+          "|---|---:|---:|---:|---:|---:|---:|"]
+    import mitsuba as mi
+    for name in a.scenes:
+        scene_file, _ = SCENES[name]
+        if not (ROOT / scene_file).exists():
+            log(f"{name}: skipped: no Prism scene {scene_file} yet")
+            continue
+        h, w = read_exr(REFS / f"{name}.exr").shape[:2]
+        mts = Mitsuba(name, a.threads)
+        prev = None
+        for depth in a.cost_by_depth:
+            d = mitsuba_dict(name, mi)
+            d["integrator"] = {"type": "path", "max_depth": depth}
+            d["sensor"]["sampler"] = {"type": "ldsampler", "sample_count": 4}
+            mts.scenes["ldsampler"] = mi.load_dict(d)
+            mts.render("ldsampler", spp, 0)  # JIT warm-up
+            args = ["--integrator", f"envlight(max_depth: {depth})"]
+            prism_render(prism, ROOT / scene_file, spp, 0, a.threads, args, tmp / "warmup.exr")
+            times = {"mitsuba": [], "prism": []}
+            for rep in range(a.reps):
+                order = ["mitsuba", "prism"] if rep % 2 == 0 else ["prism", "mitsuba"]
+                for who in order:
+                    if who == "mitsuba":
+                        times[who].append(mts.render("ldsampler", spp, 1 + rep)[0])
+                    else:
+                        times[who].append(prism_render(prism, ROOT / scene_file, spp, 1 + rep, a.threads, args,
+                                                       tmp / "depth.exr")[0])
+            ns = {k: float(np.median(v)) / (w * h * spp) * 1e9 * a.threads for k, v in times.items()}
+            added = ("", "") if prev is None else (f"{ns['mitsuba'] - prev['mitsuba']:.0f}",
+                                                   f"{ns['prism'] - prev['prism']:.0f}")
+            md.append(f"| {name} | {depth} | {ns['mitsuba']:.0f} | {ns['prism']:.0f} | "
+                      f"{ns['prism'] / ns['mitsuba']:.2f} | {added[0]} | {added[1]} |")
+            log(md[-1])
+            prev = ns
+    text = "\n".join(md)
+    (a.out / "mitsuba_cost_by_depth.md").write_text(text + "\n")
+    print(text)
+    log(f"wrote {a.out}/mitsuba_cost_by_depth.md")
+
+
 def main():
     a = parse_args()
     if os.environ.get("PRISM_PEER_IN_VENV") != "1":
         bootstrap()  # does not return
+    if a.cost_by_depth:
+        cost_by_depth(a)
+        return
     t0 = time.time()
     rows, versions = measure(a)
     if not rows:
