@@ -100,15 +100,11 @@ fn blocks(rays: &[Ray]) -> Vec<Block> {
         .collect()
 }
 
-/// Seconds of one call of `f`, the best of `rounds`.
-fn best_of(rounds: usize, mut f: impl FnMut()) -> f64 {
-    (0..rounds)
-        .map(|_| {
-            let t0 = Instant::now();
-            f();
-            t0.elapsed().as_secs_f64()
-        })
-        .fold(f64::INFINITY, f64::min)
+/// Seconds of one call of `f`.
+fn seconds(f: impl FnOnce()) -> f64 {
+    let t0 = Instant::now();
+    f();
+    t0.elapsed().as_secs_f64()
 }
 
 fn main() {
@@ -139,14 +135,14 @@ fn main() {
             rays.iter().map(|r| scene.accel.intersect(prims, r).map_or(u32::MAX, |h| h.prim)).collect();
         let mut times = [f64::INFINITY; 4];
         for _ in 0..15 {
-            times[0] = times[0].min(best_of(1, || {
+            times[0] = times[0].min(seconds(|| {
                 for r in rays {
                     black_box(scene.accel.intersect(prims, black_box(r)));
                 }
             }));
-            times[1] = times[1].min(best_of(1, || closest_dispatched(&tris, black_box(&blocks), &mut out)));
-            times[2] = times[2].min(best_of(1, || closest_avx2(&tris, black_box(&blocks), &mut out)));
-            times[3] = times[3].min(best_of(1, || closest_baseline(&tris, black_box(&blocks), &mut out)));
+            times[1] = times[1].min(seconds(|| closest_dispatched(&tris, black_box(&blocks), &mut out)));
+            times[2] = times[2].min(seconds(|| closest_avx2(&tris, black_box(&blocks), &mut out)));
+            times[3] = times[3].min(seconds(|| closest_baseline(&tris, black_box(&blocks), &mut out)));
         }
         closest_dispatched(&tris, &blocks, &mut out);
         let differ = out.iter().zip(&prism_hits).filter(|(a, b)| a != b).count();

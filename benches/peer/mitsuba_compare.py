@@ -181,7 +181,7 @@ def mitsuba_dict(name, mi):
 class Mitsuba:
     """One scene loaded once per sampler; renders timed as curves2.md describes."""
 
-    def __init__(self, name, threads):
+    def __init__(self, name, threads, samplers=("ldsampler", "independent")):
         import drjit as dr
         import mitsuba as mi
         import numpy as np
@@ -189,7 +189,7 @@ class Mitsuba:
         dr.set_thread_count(threads)
         self.mi, self.np = mi, np
         self.scenes = {}
-        for sampler in ("ldsampler", "independent"):
+        for sampler in samplers:
             d = mitsuba_dict(name, mi)
             d["sensor"]["sampler"] = {"type": sampler, "sample_count": 4}
             self.scenes[sampler] = mi.load_dict(d)
@@ -481,7 +481,7 @@ def cost_by_depth(a):
             log(f"{name}: skipped: no Prism scene {scene_file} yet")
             continue
         h, w = read_exr(REFS / f"{name}.exr").shape[:2]
-        mts = Mitsuba(name, a.threads)
+        mts = Mitsuba(name, a.threads, samplers=())  # one scene per depth is loaded below
         prev = None
         for depth in a.cost_by_depth:
             d = mitsuba_dict(name, mi)
