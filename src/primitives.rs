@@ -392,7 +392,12 @@ impl Primitives {
                 Shape::Sphere { center, radius } => {
                     sphere = Some(prims.spheres.len() as u32);
                     prims.analytic.push(ShapeRef::Sphere(prims.spheres.len() as u32));
-                    prims.spheres.push(SphereGeom::new(&m, (*center).into(), *radius, material, light_slot));
+                    // Texture coordinates only where something reads them (the material, or the light's
+                    // textured radiance and sampling density).
+                    let coordinates =
+                        emits || materials.get(material as usize).is_none_or(|x| x.uses_surface_coordinates(materials));
+                    let geom = SphereGeom::new(&m, (*center).into(), *radius, material, light_slot);
+                    prims.spheres.push(SphereGeom { coordinates, ..geom });
                     let b = prims.prim_bounds(prims.num_bounded() - 1);
                     if !within_limits(b.min) || !within_limits(b.max) {
                         return Err(beyond_limits(name(), "sphere", b.min.abs().max(b.max.abs())));

@@ -282,3 +282,41 @@ fn extreme_texture_values_never_make_nan_pixels() {
     let img = crate::common::render_ron(&text, crate::common::spp(4));
     assert!(img.pixels.iter().all(|p| p.is_finite()), "non-finite pixels");
 }
+
+#[test]
+fn sphere_texture_coordinates_are_computed_only_where_a_material_or_light_reads_them() {
+    // A sphere's (u, v) and dp/du, dp/dv cost an atan2 and an acos per hit; only textures, normal and bump maps
+    // and emitters (textured radiance, sampling density) read them, so plain materials get zeros instead.
+    let text = r#"(camera: (),
+      textures: { "t": Image(path: "assets/checker_f.png"), "m": Marble() },
+      materials: { "plain": Lambert(albedo: (0.5, 0.5, 0.5)), "tex": Lambert(albedo: Texture("t")),
+                   "blend": Blend(a: "plain", b: "rough", weight: Texture("m")), "rough": RoughConductor(alpha: 0.2) },
+      entities: [
+        (shape: Sphere(center: (-3, 0, 0), radius: 0.5), material: "plain"),
+        (shape: Sphere(center: (-1, 0, 0), radius: 0.5), material: "tex"),
+        (shape: Sphere(center: (1, 0, 0), radius: 0.5), material: "blend"),
+        (shape: Sphere(center: (3, 0, 0), radius: 0.5), material: "rough"),
+        (shape: Sphere(center: (0, 3, 0), radius: 0.5), material: "plain", light: Area(radiance: (1, 1, 1))),
+      ])"#;
+    let mut app = app_from_ron(text, Overrides::default());
+    app.setup().expect("the scene loads");
+    let scene = app.resources.scene.as_ref().expect("a scene");
+    let flags: Vec<bool> = scene.prims.spheres.iter().map(|s| s.coordinates).collect();
+    assert_eq!(
+        flags,
+        [false, true, true, false, true],
+        "plain, image-textured, blended by a solid texture, rough metal, emitter"
+    );
+    for (x, computed) in [(-3.0f32, false), (-1.0, true)] {
+        let centre = Vec3A::new(x, 0.0, 0.0);
+        let s = scene.trace(&Ray::new(Vec3A::new(x + 0.1, 0.2, 5.0), Vec3A::NEG_Z)).unwrap();
+        if computed {
+            let (uv, dpdu, dpdv) = prism::primitives::sphere_uv((s.p - centre).normalize(), 0.5);
+            assert!((s.uv - uv).abs().max_element() < 1e-5, "{:?} vs {uv:?}", s.uv);
+            assert!((s.dpdu - dpdu).abs().max_element() < 1e-4 && (s.dpdv - dpdv).abs().max_element() < 1e-4);
+            assert!(s.uv != Vec2::ZERO && s.dpdu.length() > 0.1);
+        } else {
+            assert_eq!((s.uv, s.dpdu, s.dpdv), (Vec2::ZERO, Vec3A::ZERO, Vec3A::ZERO));
+        }
+    }
+}

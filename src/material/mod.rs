@@ -149,6 +149,41 @@ impl Default for Material {
 }
 
 impl Material {
+    /// Whether shading this material reads the surface's texture coordinates or their derivatives: a texture in
+    /// any parameter, or a normal or bump map, following blends and wrapped bases (`materials`: the scene's list,
+    /// which the indices refer to). Shapes whose coordinates cost a computation per hit (spheres: an `atan2` and an
+    /// `acos`) compute them only for materials that read them.
+    pub fn uses_surface_coordinates(&self, materials: &[Material]) -> bool {
+        self.reads_coordinates(materials, 0)
+    }
+
+    fn reads_coordinates(&self, materials: &[Material], depth: u32) -> bool {
+        let c = |p: &ColorParam| p.constant().is_none();
+        let x = |p: &ScalarParam| p.constant().is_none();
+        // Blends nest (never cyclically: the loader rejects that); past this depth, assume they do read them.
+        let sub =
+            |i: u32| depth > 64 || materials.get(i as usize).is_none_or(|m| m.reads_coordinates(materials, depth + 1));
+        match &self.kind {
+            MaterialKind::Phong(p) => {
+                c(&p.ambient)
+                    || c(&p.diffuse)
+                    || c(&p.specular)
+                    || x(&p.exponent)
+                    || c(&p.reflective)
+                    || c(&p.transparent)
+            }
+            MaterialKind::Conductor { alpha, fresnel, scale } => {
+                x(alpha) || c(scale) || matches!(fresnel, ConductorSpec::Schlick(f) if c(f))
+            }
+            MaterialKind::Dielectric { alpha, reflectance, transmittance, .. } => {
+                x(alpha) || c(reflectance) || c(transmittance)
+            }
+            MaterialKind::Plastic { alpha, diffuse, specular, .. } => x(alpha) || c(diffuse) || c(specular),
+            MaterialKind::Blend { a, b, weight } => x(weight) || sub(*a) || sub(*b),
+            MaterialKind::NormalMap { .. } | MaterialKind::Bump { .. } => true,
+        }
+    }
+
     /// A Phong-family material.
     pub fn phong(name: &str, p: PhongParams) -> Self {
         Material { name: name.to_string(), kind: MaterialKind::Phong(p), two_sided: true }

@@ -22,6 +22,10 @@ pub struct SphereGeom {
     pub transform: Option<SphereTransform>,
     pub material: u32,
     pub light: u32,
+    /// Compute texture coordinates and dp/du, dp/dv at hits (`true` unless the sphere's material never reads
+    /// them and it emits no light; see [`crate::material::Material::uses_surface_coordinates`]). Otherwise they
+    /// are left zero.
+    pub coordinates: bool,
 }
 
 #[derive(Clone, Copy, Debug)]
@@ -81,6 +85,7 @@ impl SphereGeom {
                 transform: None,
                 material,
                 light,
+                coordinates: true,
             };
         }
         let inv = m.inverse();
@@ -94,7 +99,14 @@ impl SphereGeom {
             }),
             material,
             light,
+            coordinates: true,
         }
+    }
+
+    /// Texture coordinates and dp/du, dp/dv at unit normal `n` of the sphere's own frame, if they are wanted.
+    #[inline]
+    fn coordinates_at(&self, n: Vec3A) -> (Vec2, Vec3A, Vec3A) {
+        if self.coordinates { sphere_uv(n, self.radius) } else { (Vec2::ZERO, Vec3A::ZERO, Vec3A::ZERO) }
     }
 
     /// Distance along the ray to the sphere (or ellipsoid) in `(0, ray.tmax)`.
@@ -147,7 +159,7 @@ impl AnalyticShape for SphereGeom {
         match &self.transform {
             None => {
                 let n = (ray.at(hit.t) - self.center).normalize();
-                let (uv, dpdu, dpdv) = sphere_uv(n, self.radius);
+                let (uv, dpdu, dpdv) = self.coordinates_at(n);
                 ShapePoint {
                     p: self.center + n * self.radius,
                     p_err: sphere_point_error(self.center, n * self.radius, None),
@@ -162,7 +174,7 @@ impl AnalyticShape for SphereGeom {
                     + x.object_from_world.transform_vector3a(ray.dir) * hit.t;
                 let no = (po - self.center).normalize();
                 let p = x.world_from_object.transform_point3a(self.center + no * self.radius);
-                let (uv, dpdu, dpdv) = sphere_uv(no, self.radius);
+                let (uv, dpdu, dpdv) = self.coordinates_at(no);
                 let m = x.world_from_object.matrix3;
                 ShapePoint {
                     p,
