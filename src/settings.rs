@@ -88,7 +88,7 @@ pub fn describe_plugin(c: &PluginConfig) -> String {
 /// Which accelerator to build over the scene's bounded primitives.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum AccelKind {
-    /// Wide BVH with SoA boxes and packet leaves (`src/accel/wide_bvh.rs`), built by obvhs (the default).
+    /// Wide BVH with SoA boxes and packet leaves (`src/accel/wide_bvh/`), built by obvhs (the default).
     #[default]
     Bvh,
     /// obvhs's compressed 8-wide BVH (CWBVH) and its own traversal (`src/accel/bvh.rs`), kept for comparison.

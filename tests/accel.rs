@@ -182,6 +182,37 @@ fn every_accelerator_matches_brute_force_on_the_stanford_bunny_with_spheres_elli
     }
 }
 
+/// The wide BVH tests a node's eight child boxes with one AVX operation per step where the CPU has AVX2, with
+/// two SSE operations elsewhere; both compute every lane with the same operations in the same order, so the
+/// traversal visits the same nodes and primitives in the same order and every answer is the same bit for bit.
+/// (On a CPU without AVX2 both sides are the SSE test.)
+#[test]
+fn the_bvhs_avx_and_sse_box_tests_give_the_same_traversal_bit_for_bit() {
+    let text = bunny_scene_text();
+    let mut app = setup_ron(&text, AccelKind::Bvh);
+    let rays_camera = rays(scene(&app), 4000, 3);
+    let (bounce, shadow) = secondary_rays(scene(&app), &rays_camera, 5);
+    let all: Vec<Ray> = rays_camera.iter().chain(&bounce).chain(&shadow).copied().collect();
+    let answers = |s: &Scene| -> Vec<_> {
+        all.iter()
+            .map(|r| {
+                let mut work = TraversalWork::default();
+                let h = s.accel.intersect_counted(&s.prims, r, &mut work);
+                (h.map(|h| (h.prim, h.t.to_bits(), h.b1.to_bits(), h.b2.to_bits())), s.occluded(r), work)
+            })
+            .collect()
+    };
+    let wide = answers(scene(&app));
+    let s = app.resources.scene.as_mut().expect("a scene");
+    let Accel::Bvh(bvh) = &mut s.accel else { panic!("the BVH was asked for") };
+    eprintln!("AVX box test available: {}", bvh.uses_avx_boxes());
+    bvh.use_baseline_boxes();
+    let narrow = answers(scene(&app));
+    let differ = wide.iter().zip(&narrow).filter(|(a, b)| a != b).count();
+    assert_eq!(differ, 0, "{differ} of {} rays traverse differently (hit, occlusion or nodes visited)", all.len());
+    assert!(wide.iter().filter(|a| a.0.is_some()).count() > all.len() / 4, "too few hits: the test would be weak");
+}
+
 /// A ray spawned from a triangle cannot meet that triangle again (a plane), so `Ray::leaves` lets the BVH skip
 /// its test: with the hint or without, every accelerator's answer is the same, and equals brute force, for
 /// bounce and shadow rays spawned from hits on the bunny (triangles), spheres and an ellipsoid.

@@ -1,5 +1,5 @@
 //! `--accel cwbvh`: obvhs's compressed 8-wide BVH (CWBVH, Ylitie et al. 2017) and its own traversal, kept to
-//! compare against the default BVH (`wide_bvh.rs`, built by the same obvhs builder). Built by PLOC with
+//! compare against the default BVH (`wide_bvh/`, built by the same obvhs builder). Built by PLOC with
 //! reinsertion over the bounds of all bounded primitives, analytic shapes included (through `Primitives`' one
 //! analytic dispatch). After the build, primitive data is copied into
 //! BVH leaf order (`slot_tris`, `slot_ids`) so traversal reads triangles sequentially; obvhs hands the traversal

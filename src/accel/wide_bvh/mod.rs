@@ -1,9 +1,12 @@
 //! The default BVH (`--accel bvh`), an 8-wide BVH for CPU single-ray traversal: built by obvhs (PLOC with
 //! reinsertion, leaves of up to eight primitives; the top-down build of `bvh_fallback.rs` when many primitives share
-//! a Morton cell), then collapsed into nodes of eight children whose boxes are stored as structure of arrays in two
-//! groups of four, so one ray is tested against four boxes with one SIMD operation per slab (glam's `Vec4`, SSE on
-//! x86-64), and leaves hold their triangles four to a [`TriPacket`] (the same conservative SIMD pre-filter and exact
-//! watertight test the kd-tree uses).
+//! a Morton cell), then collapsed into nodes of eight children whose boxes are stored as structure of arrays (each
+//! box plane's eight values side by side), so one ray is tested against all eight boxes with one AVX operation per
+//! step where the CPU has AVX2, or against four with one SSE operation elsewhere (`boxes.rs`; the same traversal
+//! bit for bit either way), and leaves hold their triangles four to a [`TriPacket`] (the same conservative SIMD
+//! pre-filter and exact watertight test the kd-tree uses). With AVX2 the whole query is compiled for AVX2 and FMA
+//! through `pulp` (safe Rust; the features are detected at run time) — Rust never fuses a multiply and an add on
+//! its own, so the answers do not change with the target.
 //!
 //! Why not obvhs's own CWBVH traversal (still available as `--accel cwbvh`, `bvh.rs`): its 8-wide nodes are
 //! quantised for GPU memory bandwidth (Ylitie et al. 2017), so every node visit first decompresses eight boxes; on
@@ -17,11 +20,16 @@
 
 use super::work::{NoCount, TraversalWork, WorkCounter};
 use super::{AccelStats, Accelerator};
-use crate::geometry::{Ray, TriPacket, WatertightRay, gamma};
+use crate::geometry::{Ray, TriPacket, WatertightRay};
 use crate::primitives::{Hit, Primitives};
-use glam::{Vec3A, Vec4};
+use boxes::{BoxTest, RayBoxes, RayBoxes8};
+use glam::Vec3A;
 use obvhs::{BvhBuildParams, bvh2::Bvh2};
+use pulp::x86::V3;
+use pulp::{Simd, WithSimd};
 use std::time::Duration;
+
+mod boxes;
 
 /// Child slot markers.
 const LEAF_BIT: u32 = 1 << 31;
@@ -30,16 +38,15 @@ const EMPTY: u32 = u32::MAX;
 /// identical boxes) traverse with a heap stack sized from their depth instead.
 const STACK: usize = 128;
 
-/// Groups of four children per node (`HALVES * 4` children; each group one SIMD box test).
-const HALVES: usize = 2;
 /// Children per node.
-const WIDTH: usize = 4 * HALVES;
+const WIDTH: usize = 8;
 
-/// `WIDTH` children: per group of four, box planes as lanes (`b[g][0..3]` = min x, y, z; `b[g][3..6]` = max x, y, z).
+/// `WIDTH` children, box planes as lanes: `b[0..3]` = min x, y, z, `b[3..6]` = max x, y, z of child `lane` at
+/// `[plane][lane]` (one 8-wide AVX load per plane, or two 4-wide SSE loads).
 #[derive(Clone, Copy, Debug)]
 #[repr(C, align(32))]
 struct Node4 {
-    b: [[Vec4; 6]; HALVES],
+    b: [[f32; WIDTH]; 6],
     /// Inner child: node index; leaf: `LEAF_BIT | leaf index`; `EMPTY`: no child.
     child: [u32; WIDTH],
 }
@@ -68,60 +75,9 @@ pub struct WideBvh {
     root: u32,
     /// Depth of the deepest node (a traversal stack needs at most 3 entries per level, plus one).
     depth: usize,
+    /// AVX2 and FMA, if this CPU has them: the 8-wide box test (`boxes.rs`).
+    avx: Option<V3>,
     pub(super) build_time: Duration,
-}
-
-/// The ray data of a traversal: origin, clamped reciprocal direction, and per axis whether the near plane is the
-/// box's max (negative direction).
-struct RayBoxes {
-    o: [Vec4; 3],
-    inv: [Vec4; 3],
-    near: [usize; 3],
-    far: [usize; 3],
-}
-
-impl RayBoxes {
-    #[inline(always)]
-    fn new(ray: &Ray) -> Self {
-        const BIG: f32 = 1e25;
-        let d = ray.dir + Vec3A::ZERO; // -0 becomes +0
-        let r = d.recip();
-        let inv = Vec3A::select(r.abs().cmpgt(Vec3A::splat(BIG)), Vec3A::splat(BIG).copysign(d), r);
-        let neg = [d.x < 0.0, d.y < 0.0, d.z < 0.0];
-        RayBoxes {
-            o: [Vec4::splat(ray.origin.x), Vec4::splat(ray.origin.y), Vec4::splat(ray.origin.z)],
-            inv: [Vec4::splat(inv.x), Vec4::splat(inv.y), Vec4::splat(inv.z)],
-            near: [neg[0] as usize * 3, 1 + neg[1] as usize * 3, 2 + neg[2] as usize * 3],
-            far: [3 - neg[0] as usize * 3, 4 - neg[1] as usize * 3, 5 - neg[2] as usize * 3],
-        }
-    }
-
-    /// Entry distances of four children and the mask of those the ray meets within `(0, tmax)`.
-    #[inline(always)]
-    fn test4(&self, b: &[Vec4; 6], tmax: f32) -> (Vec4, u32) {
-        let t0 = (b[self.near[0]] - self.o[0]) * self.inv[0];
-        let t1 = (b[self.near[1]] - self.o[1]) * self.inv[1];
-        let t2 = (b[self.near[2]] - self.o[2]) * self.inv[2];
-        let u0 = (b[self.far[0]] - self.o[0]) * self.inv[0];
-        let u1 = (b[self.far[1]] - self.o[1]) * self.inv[1];
-        let u2 = (b[self.far[2]] - self.o[2]) * self.inv[2];
-        let tnear = t0.max(t1).max(t2.max(Vec4::ZERO));
-        let tfar = u0.min(u1).min(u2.min(Vec4::splat(tmax))) * (1.0 + 2.0 * gamma(3));
-        (tnear, tnear.cmple(tfar).bitmask())
-    }
-
-    /// Entry distances of every child and the mask of those the ray meets.
-    #[inline(always)]
-    fn test(&self, n: &Node4, tmax: f32) -> ([f32; WIDTH], u32) {
-        let mut t = [0f32; WIDTH];
-        let mut mask = 0;
-        for g in 0..HALVES {
-            let (tn, m) = self.test4(&n.b[g], tmax);
-            t[4 * g..4 * g + 4].copy_from_slice(&tn.to_array());
-            mask |= m << (4 * g);
-        }
-        (t, mask)
-    }
 }
 
 impl WideBvh {
@@ -133,6 +89,7 @@ impl WideBvh {
             packets: vec![],
             root: EMPTY,
             depth: 0,
+            avx: V3::try_new(),
             build_time: Duration::ZERO,
         };
         if aabbs.is_empty() {
@@ -171,12 +128,7 @@ impl WideBvh {
                 };
                 out += &format!(
                     "  {what}: [{:.2} {:.2} {:.2}] - [{:.2} {:.2} {:.2}]\n",
-                    n.b[lane / 4][0][lane % 4],
-                    n.b[lane / 4][1][lane % 4],
-                    n.b[lane / 4][2][lane % 4],
-                    n.b[lane / 4][3][lane % 4],
-                    n.b[lane / 4][4][lane % 4],
-                    n.b[lane / 4][5][lane % 4]
+                    n.b[0][lane], n.b[1][lane], n.b[2][lane], n.b[3][lane], n.b[4][lane], n.b[5][lane]
                 );
             }
         }
@@ -264,23 +216,23 @@ impl WideBvh {
             kids.extend([first, first + 1]);
         }
         let me = self.nodes.len();
-        let empty = [
-            [f32::INFINITY; 4],
-            [f32::INFINITY; 4],
-            [f32::INFINITY; 4],
-            [f32::NEG_INFINITY; 4],
-            [f32::NEG_INFINITY; 4],
-            [f32::NEG_INFINITY; 4],
+        // Empty slots: a box from +inf to -inf, which no ray meets.
+        let mut b = [
+            [f32::INFINITY; WIDTH],
+            [f32::INFINITY; WIDTH],
+            [f32::INFINITY; WIDTH],
+            [f32::NEG_INFINITY; WIDTH],
+            [f32::NEG_INFINITY; WIDTH],
+            [f32::NEG_INFINITY; WIDTH],
         ];
-        let mut b = [empty; HALVES];
         for (lane, &k) in kids.iter().enumerate() {
             let a = bvh2.nodes[k].aabb;
             for axis in 0..3 {
-                b[lane / 4][axis][lane % 4] = a.min[axis];
-                b[lane / 4][3 + axis][lane % 4] = a.max[axis];
+                b[axis][lane] = a.min[axis];
+                b[3 + axis][lane] = a.max[axis];
             }
         }
-        self.nodes.push(Node4 { b: b.map(|g| g.map(Vec4::from_array)), child: [EMPTY; WIDTH] });
+        self.nodes.push(Node4 { b, child: [EMPTY; WIDTH] });
         for (lane, &k) in kids.iter().enumerate() {
             let slot = self.collapse(bvh2, k, prims, depth + 1);
             self.nodes[me].child[lane] = slot;
@@ -339,7 +291,13 @@ impl WideBvh {
     }
 
     #[inline(always)]
-    fn query<const ANY: bool, C: WorkCounter>(&self, prims: &Primitives, ray: &Ray, counter: &mut C) -> Option<Hit> {
+    fn query<const ANY: bool, C: WorkCounter, B: BoxTest>(
+        &self,
+        prims: &Primitives,
+        ray: &Ray,
+        counter: &mut C,
+        rb: &B,
+    ) -> Option<Hit> {
         if self.root == EMPTY {
             return None;
         }
@@ -347,27 +305,27 @@ impl WideBvh {
         let need = (WIDTH - 1) * self.depth + 4;
         if need <= 32 {
             let mut stack = [(0u32, 0f32); 32];
-            self.query_with::<ANY, C>(prims, ray, counter, &mut stack)
+            self.query_with::<ANY, C, B>(prims, ray, counter, &mut stack, rb)
         } else if need <= STACK {
             let mut stack = [(0u32, 0f32); STACK];
-            self.query_with::<ANY, C>(prims, ray, counter, &mut stack)
+            self.query_with::<ANY, C, B>(prims, ray, counter, &mut stack, rb)
         } else {
             let mut stack = vec![(0u32, 0f32); (WIDTH - 1) * self.depth + 4];
-            self.query_with::<ANY, C>(prims, ray, counter, &mut stack)
+            self.query_with::<ANY, C, B>(prims, ray, counter, &mut stack, rb)
         }
     }
 
     /// The traversal with a stack of at least `3 depth + 4` entries.
     #[inline(always)]
-    fn query_with<const ANY: bool, C: WorkCounter>(
+    fn query_with<const ANY: bool, C: WorkCounter, B: BoxTest>(
         &self,
         prims: &Primitives,
         ray: &Ray,
         counter: &mut C,
         stack: &mut [(u32, f32)],
+        rb: &B,
     ) -> Option<Hit> {
         let wt = WatertightRay::new(ray);
-        let rb = RayBoxes::new(ray);
         let mut best: Option<Hit> = None;
         let mut end = ray.tmax;
         let mut sp = 0usize;
@@ -442,19 +400,61 @@ impl WideBvh {
     }
 }
 
+/// A query run compiled for AVX2 and FMA (`pulp` enables the features for [`WithSimd::with_simd`], and everything
+/// below it is inlined), with the 8-wide box test.
+struct AvxQuery<'a, const ANY: bool, C> {
+    simd: V3,
+    bvh: &'a WideBvh,
+    prims: &'a Primitives,
+    ray: &'a Ray,
+    counter: &'a mut C,
+}
+
+impl<const ANY: bool, C: WorkCounter> WithSimd for AvxQuery<'_, ANY, C> {
+    type Output = Option<Hit>;
+
+    #[inline(always)]
+    fn with_simd<S: Simd>(self, _: S) -> Option<Hit> {
+        let rb = RayBoxes8::new(self.simd, self.ray);
+        self.bvh.query::<ANY, C, _>(self.prims, self.ray, self.counter, &rb)
+    }
+}
+
+impl WideBvh {
+    /// Use the 4-wide SSE box test even where AVX2 is available (for tests and comparisons: the answers are the
+    /// same bit for bit, only the speed differs).
+    pub fn use_baseline_boxes(&mut self) {
+        self.avx = None;
+    }
+
+    /// Whether queries use the 8-wide AVX box test.
+    pub fn uses_avx_boxes(&self) -> bool {
+        self.avx.is_some()
+    }
+
+    /// A query with the widest box test this CPU runs.
+    #[inline(always)]
+    fn run<const ANY: bool, C: WorkCounter>(&self, prims: &Primitives, ray: &Ray, counter: &mut C) -> Option<Hit> {
+        match self.avx {
+            Some(simd) => Simd::vectorize(simd, AvxQuery::<ANY, C> { simd, bvh: self, prims, ray, counter }),
+            None => self.query::<ANY, C, _>(prims, ray, counter, &RayBoxes::new(ray)),
+        }
+    }
+}
+
 impl Accelerator for WideBvh {
     #[inline]
     fn intersect(&self, prims: &Primitives, ray: &Ray) -> Option<Hit> {
-        self.query::<false, _>(prims, ray, &mut NoCount)
+        self.run::<false, _>(prims, ray, &mut NoCount)
     }
 
     #[inline]
     fn occluded(&self, prims: &Primitives, ray: &Ray) -> bool {
-        self.query::<true, _>(prims, ray, &mut NoCount).is_some()
+        self.run::<true, _>(prims, ray, &mut NoCount).is_some()
     }
 
     fn intersect_counted(&self, prims: &Primitives, ray: &Ray, work: &mut TraversalWork) -> Option<Hit> {
-        self.query::<false, _>(prims, ray, work)
+        self.run::<false, _>(prims, ray, work)
     }
 
     fn stats(&self) -> AccelStats {

@@ -1,0 +1,131 @@
+//! One ray against the eight child boxes of a node: the slab test of the wide BVH, in two widths.
+//!
+//! [`RayBoxes`] tests the eight boxes as two groups of four with SSE (glam's `Vec4`), which every x86-64 CPU has;
+//! [`RayBoxes8`] tests all eight with one AVX operation per step, through `pulp`'s safe wrappers of the AVX
+//! intrinsics under a [`V3`] token (proof that the CPU has AVX2 and FMA, detected at run time; the traversal then
+//! runs compiled for those features, see `WithSimd` in `mod.rs`). Both compute every lane with the same operations
+//! in the same order, so their entry distances and masks are bit for bit the same and the traversal visits the same
+//! nodes in the same order either way: the images do not depend on the CPU.
+//!
+//! The test is robust to axis-parallel rays (reciprocals clamped to +-1e25, -0 treated as +0) and conservative
+//! against rounding (the exit distance scaled by `1 + 2 gamma(3)`, Ize 2013); empty slots hold a box from +inf to
+//! -inf, which no ray meets.
+
+use super::{Node4, WIDTH};
+use crate::geometry::{Ray, gamma};
+use core::arch::x86_64::{__m256, _CMP_LE_OS};
+use glam::{Vec3A, Vec4};
+use pulp::x86::V3;
+
+/// Entry distances of a node's children and the mask of those the ray meets within `(0, tmax)`.
+pub(super) trait BoxTest {
+    fn test(&self, n: &Node4, tmax: f32) -> ([f32; WIDTH], u32);
+}
+
+/// The reciprocal direction with tiny components clamped, and per axis whether the near plane is the box's max
+/// (a negative direction): `(inv, near plane index, far plane index)`.
+#[inline(always)]
+fn slabs(ray: &Ray) -> (Vec3A, [usize; 3], [usize; 3]) {
+    const BIG: f32 = 1e25;
+    let d = ray.dir + Vec3A::ZERO; // -0 becomes +0
+    let r = d.recip();
+    let inv = Vec3A::select(r.abs().cmpgt(Vec3A::splat(BIG)), Vec3A::splat(BIG).copysign(d), r);
+    let neg = [d.x < 0.0, d.y < 0.0, d.z < 0.0];
+    let near = [neg[0] as usize * 3, 1 + neg[1] as usize * 3, 2 + neg[2] as usize * 3];
+    let far = [3 - neg[0] as usize * 3, 4 - neg[1] as usize * 3, 5 - neg[2] as usize * 3];
+    (inv, near, far)
+}
+
+/// The ray data of a traversal with SSE: origin and clamped reciprocal direction splatted, near and far planes.
+pub(super) struct RayBoxes {
+    o: [Vec4; 3],
+    inv: [Vec4; 3],
+    near: [usize; 3],
+    far: [usize; 3],
+}
+
+impl RayBoxes {
+    #[inline(always)]
+    pub(super) fn new(ray: &Ray) -> Self {
+        let (inv, near, far) = slabs(ray);
+        RayBoxes {
+            o: [Vec4::splat(ray.origin.x), Vec4::splat(ray.origin.y), Vec4::splat(ray.origin.z)],
+            inv: [Vec4::splat(inv.x), Vec4::splat(inv.y), Vec4::splat(inv.z)],
+            near,
+            far,
+        }
+    }
+
+    /// Children `4 g .. 4 g + 4`.
+    #[inline(always)]
+    fn test4(&self, n: &Node4, g: usize, tmax: f32) -> (Vec4, u32) {
+        let plane = |p: usize| Vec4::from_slice(&n.b[p][4 * g..4 * g + 4]);
+        let t0 = (plane(self.near[0]) - self.o[0]) * self.inv[0];
+        let t1 = (plane(self.near[1]) - self.o[1]) * self.inv[1];
+        let t2 = (plane(self.near[2]) - self.o[2]) * self.inv[2];
+        let u0 = (plane(self.far[0]) - self.o[0]) * self.inv[0];
+        let u1 = (plane(self.far[1]) - self.o[1]) * self.inv[1];
+        let u2 = (plane(self.far[2]) - self.o[2]) * self.inv[2];
+        let tnear = t0.max(t1).max(t2.max(Vec4::ZERO));
+        let tfar = u0.min(u1).min(u2.min(Vec4::splat(tmax))) * (1.0 + 2.0 * gamma(3));
+        (tnear, tnear.cmple(tfar).bitmask())
+    }
+}
+
+impl BoxTest for RayBoxes {
+    #[inline(always)]
+    fn test(&self, n: &Node4, tmax: f32) -> ([f32; WIDTH], u32) {
+        let (t_lo, m_lo) = self.test4(n, 0, tmax);
+        let (t_hi, m_hi) = self.test4(n, 1, tmax);
+        let mut t = [0f32; WIDTH];
+        t[..4].copy_from_slice(&t_lo.to_array());
+        t[4..].copy_from_slice(&t_hi.to_array());
+        (t, m_lo | m_hi << 4)
+    }
+}
+
+/// The ray data of a traversal with AVX: the same as [`RayBoxes`], eight lanes wide.
+pub(super) struct RayBoxes8 {
+    simd: V3,
+    o: [__m256; 3],
+    inv: [__m256; 3],
+    near: [usize; 3],
+    far: [usize; 3],
+}
+
+impl RayBoxes8 {
+    #[inline(always)]
+    pub(super) fn new(simd: V3, ray: &Ray) -> Self {
+        let (inv, near, far) = slabs(ray);
+        let a = simd.avx;
+        RayBoxes8 {
+            simd,
+            o: [a._mm256_set1_ps(ray.origin.x), a._mm256_set1_ps(ray.origin.y), a._mm256_set1_ps(ray.origin.z)],
+            inv: [a._mm256_set1_ps(inv.x), a._mm256_set1_ps(inv.y), a._mm256_set1_ps(inv.z)],
+            near,
+            far,
+        }
+    }
+}
+
+impl BoxTest for RayBoxes8 {
+    #[inline(always)]
+    fn test(&self, n: &Node4, tmax: f32) -> ([f32; WIDTH], u32) {
+        let a = self.simd.avx;
+        let plane = |p: usize| -> __m256 { pulp::cast(n.b[p]) };
+        let t0 = a._mm256_mul_ps(a._mm256_sub_ps(plane(self.near[0]), self.o[0]), self.inv[0]);
+        let t1 = a._mm256_mul_ps(a._mm256_sub_ps(plane(self.near[1]), self.o[1]), self.inv[1]);
+        let t2 = a._mm256_mul_ps(a._mm256_sub_ps(plane(self.near[2]), self.o[2]), self.inv[2]);
+        let u0 = a._mm256_mul_ps(a._mm256_sub_ps(plane(self.far[0]), self.o[0]), self.inv[0]);
+        let u1 = a._mm256_mul_ps(a._mm256_sub_ps(plane(self.far[1]), self.o[1]), self.inv[1]);
+        let u2 = a._mm256_mul_ps(a._mm256_sub_ps(plane(self.far[2]), self.o[2]), self.inv[2]);
+        // The operations of `RayBoxes::test4` in its order (`max(a, b)` / `min(a, b)` as SSE's `maxps` / `minps`).
+        let tnear = a._mm256_max_ps(a._mm256_max_ps(t0, t1), a._mm256_max_ps(t2, a._mm256_setzero_ps()));
+        let tfar = a._mm256_mul_ps(
+            a._mm256_min_ps(a._mm256_min_ps(u0, u1), a._mm256_min_ps(u2, a._mm256_set1_ps(tmax))),
+            a._mm256_set1_ps(1.0 + 2.0 * gamma(3)),
+        );
+        let mask = a._mm256_movemask_ps(a._mm256_cmp_ps::<_CMP_LE_OS>(tnear, tfar)) as u32;
+        (pulp::cast(tnear), mask)
+    }
+}
