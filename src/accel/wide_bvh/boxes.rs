@@ -11,7 +11,7 @@
 //! against rounding (the exit distance scaled by `1 + 2 gamma(3)`, Ize 2013); empty slots hold a box from +inf to
 //! -inf, which no ray meets.
 
-use super::{Node4, WIDTH};
+use super::{Node, WIDTH};
 use crate::geometry::{Ray, gamma};
 use core::arch::x86_64::{__m256, _CMP_LE_OS};
 use glam::{Vec3A, Vec4};
@@ -19,7 +19,7 @@ use pulp::x86::V3;
 
 /// Entry distances of a node's children and the mask of those the ray meets within `(0, tmax)`.
 pub(super) trait BoxTest {
-    fn test(&self, n: &Node4, tmax: f32) -> ([f32; WIDTH], u32);
+    fn test(&self, n: &Node, tmax: f32) -> ([f32; WIDTH], u32);
 }
 
 /// The reciprocal direction with tiny components clamped, and per axis whether the near plane is the box's max
@@ -58,7 +58,7 @@ impl RayBoxes {
 
     /// Children `4 g .. 4 g + 4`.
     #[inline(always)]
-    fn test4(&self, n: &Node4, g: usize, tmax: f32) -> (Vec4, u32) {
+    fn test4(&self, n: &Node, g: usize, tmax: f32) -> (Vec4, u32) {
         let plane = |p: usize| Vec4::from_slice(&n.b[p][4 * g..4 * g + 4]);
         let t0 = (plane(self.near[0]) - self.o[0]) * self.inv[0];
         let t1 = (plane(self.near[1]) - self.o[1]) * self.inv[1];
@@ -74,7 +74,7 @@ impl RayBoxes {
 
 impl BoxTest for RayBoxes {
     #[inline(always)]
-    fn test(&self, n: &Node4, tmax: f32) -> ([f32; WIDTH], u32) {
+    fn test(&self, n: &Node, tmax: f32) -> ([f32; WIDTH], u32) {
         let (t_lo, m_lo) = self.test4(n, 0, tmax);
         let (t_hi, m_hi) = self.test4(n, 1, tmax);
         let mut t = [0f32; WIDTH];
@@ -110,7 +110,7 @@ impl RayBoxes8 {
 
 impl BoxTest for RayBoxes8 {
     #[inline(always)]
-    fn test(&self, n: &Node4, tmax: f32) -> ([f32; WIDTH], u32) {
+    fn test(&self, n: &Node, tmax: f32) -> ([f32; WIDTH], u32) {
         let a = self.simd.avx;
         let plane = |p: usize| -> __m256 { pulp::cast(n.b[p]) };
         let t0 = a._mm256_mul_ps(a._mm256_sub_ps(plane(self.near[0]), self.o[0]), self.inv[0]);

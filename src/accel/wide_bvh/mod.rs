@@ -45,7 +45,7 @@ const WIDTH: usize = 8;
 /// `[plane][lane]` (one 8-wide AVX load per plane, or two 4-wide SSE loads).
 #[derive(Clone, Copy, Debug)]
 #[repr(C, align(32))]
-struct Node4 {
+struct Node {
     b: [[f32; WIDTH]; 6],
     /// Inner child: node index; leaf: `LEAF_BIT | leaf index`; `EMPTY`: no child.
     child: [u32; WIDTH],
@@ -68,12 +68,12 @@ struct LeafPacket {
 }
 
 pub struct WideBvh {
-    nodes: Vec<Node4>,
+    nodes: Vec<Node>,
     leaves: Vec<LeafRange>,
     packets: Vec<LeafPacket>,
     /// The root: a node, or a lone leaf (`LEAF_BIT`), or `EMPTY`.
     root: u32,
-    /// Depth of the deepest node (a traversal stack needs at most 3 entries per level, plus one).
+    /// Depth of the deepest node (a traversal stack needs at most `WIDTH - 1` entries per level, plus a few).
     depth: usize,
     /// AVX2 and FMA, if this CPU has them: the 8-wide box test (`boxes.rs`).
     avx: Option<V3>,
@@ -232,7 +232,7 @@ impl WideBvh {
                 b[3 + axis][lane] = a.max[axis];
             }
         }
-        self.nodes.push(Node4 { b, child: [EMPTY; WIDTH] });
+        self.nodes.push(Node { b, child: [EMPTY; WIDTH] });
         for (lane, &k) in kids.iter().enumerate() {
             let slot = self.collapse(bvh2, k, prims, depth + 1);
             self.nodes[me].child[lane] = slot;
@@ -315,7 +315,7 @@ impl WideBvh {
         }
     }
 
-    /// The traversal with a stack of at least `3 depth + 4` entries.
+    /// The traversal with a stack of at least `(WIDTH - 1) depth + 4` entries, testing boxes with `rb`.
     #[inline(always)]
     fn query_with<const ANY: bool, C: WorkCounter, B: BoxTest>(
         &self,
@@ -461,7 +461,7 @@ impl Accelerator for WideBvh {
         AccelStats {
             kind: "bvh",
             build_time: self.build_time,
-            memory_bytes: self.nodes.len() * std::mem::size_of::<Node4>()
+            memory_bytes: self.nodes.len() * std::mem::size_of::<Node>()
                 + self.leaves.len() * std::mem::size_of::<LeafRange>()
                 + self.packets.len() * std::mem::size_of::<LeafPacket>(),
             nodes: self.nodes.len(),
