@@ -213,6 +213,35 @@ fn the_bvhs_avx_and_sse_box_tests_give_the_same_traversal_bit_for_bit() {
     assert!(wide.iter().filter(|a| a.0.is_some()).count() > all.len() / 4, "too few hits: the test would be weak");
 }
 
+/// An analytic primitive (a sphere here; also revolutions and patches) costs several triangle tests — divisions,
+/// square roots, Newton steps — while a node tests all eight child boxes in one operation. So where a node has
+/// room the wide BVH gives each analytic primitive a leaf of its own, and rays that do not come near it never test
+/// it. On the sphere Cornell box the BVH2 puts each sphere in a leaf with a wall (whose box every ray to that wall
+/// enters); after the collapse no leaf mixes a sphere with anything, and every answer still equals brute force.
+#[test]
+fn the_wide_bvh_gives_spheres_leaves_of_their_own_where_a_node_has_room() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/cornell_rough.ron");
+    let app = setup_file(&path, AccelKind::Bvh);
+    let s = scene(&app);
+    let Accel::Bvh(bvh) = &s.accel else { panic!("the BVH was asked for") };
+    let nt = s.prims.num_tris();
+    let leaves = bvh.leaf_primitives();
+    let mut seen: Vec<u32> = leaves.iter().flatten().copied().collect();
+    seen.sort_unstable();
+    assert_eq!(seen, (0..s.prims.num_bounded()).collect::<Vec<_>>(), "every primitive in exactly one leaf");
+    let spheres = (nt..s.prims.num_bounded()).count();
+    assert_eq!(spheres, 2, "the scene has two spheres");
+    for leaf in &leaves {
+        if leaf.iter().any(|&id| id >= nt) {
+            assert_eq!(leaf.len(), 1, "a sphere shares a leaf: {leaf:?} (leaves {leaves:?})");
+        }
+    }
+    let truth_app = setup_file(&path, AccelKind::Brute);
+    let all = rays(s, 4000, 11);
+    let hits = assert_matches_brute("cornell_rough bvh", s, scene(&truth_app), &all);
+    assert!(hits > 1000, "too few hits ({hits}): the test would be weak");
+}
+
 /// A ray spawned from a triangle cannot meet that triangle again (a plane), so `Ray::leaves` lets the BVH skip
 /// its test: with the hint or without, every accelerator's answer is the same, and equals brute force, for
 /// bounce and shadow rays spawned from hits on the bunny (triangles), spheres and an ellipsoid.

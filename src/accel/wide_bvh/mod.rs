@@ -1,7 +1,8 @@
 //! The default BVH (`--accel bvh`), an 8-wide BVH for CPU single-ray traversal: built by obvhs (PLOC with
 //! reinsertion, leaves of up to eight primitives; the top-down build of `bvh_fallback.rs` when many primitives share
-//! a Morton cell), then collapsed into nodes of eight children whose boxes are stored as structure of arrays (each
-//! box plane's eight values side by side), so one ray is tested against all eight boxes with one AVX operation per
+//! a Morton cell), then collapsed into nodes of eight children (a node with slots to spare gives each analytic
+//! primitive that shares a leaf a leaf of its own: `split_off_analytic`) whose boxes are stored as structure of
+//! arrays (each box plane's eight values side by side), so one ray is tested against all eight boxes with one AVX operation per
 //! step where the CPU has AVX2, or against four with one SSE operation elsewhere (`boxes.rs`; the same traversal
 //! bit for bit either way), and leaves hold their triangles four to a [`TriPacket`] (the same conservative SIMD
 //! pre-filter and exact watertight test the kd-tree uses). With AVX2 the whole query is compiled for AVX2 and FMA
@@ -24,7 +25,7 @@ use crate::geometry::{Ray, TriPacket, WatertightRay};
 use crate::primitives::{Hit, Primitives};
 use boxes::{BoxTest, RayBoxes, RayBoxes8};
 use glam::Vec3A;
-use obvhs::{BvhBuildParams, bvh2::Bvh2};
+use obvhs::{BvhBuildParams, aabb::Aabb, bvh2::Bvh2};
 use pulp::x86::V3;
 use pulp::{Simd, WithSimd};
 use std::time::Duration;
@@ -67,6 +68,40 @@ struct LeafPacket {
     other_lanes: u8,
 }
 
+/// A child of a node being collapsed: a BVH2 subtree, or the primitives of one leaf, with its box.
+enum Kid {
+    Subtree(usize, Aabb),
+    Leaf(Vec<u32>, Aabb),
+}
+
+impl Kid {
+    fn aabb(&self) -> &Aabb {
+        match self {
+            Kid::Subtree(_, a) | Kid::Leaf(_, a) => a,
+        }
+    }
+}
+
+/// Give analytic primitives (ids `>= num_tris`: spheres, revolutions, patches) that share a leaf with others a
+/// leaf of their own while the node has empty slots. A node tests all its slots' boxes in one operation, so the
+/// extra box is free, while an analytic test (divisions, square roots, Newton steps) costs several triangle
+/// tests: with its own tight box, only the rays that come near the shape pay for it. (On the sphere Cornell boxes
+/// the BVH2 puts each sphere in a leaf with a wall, whose box every ray to that wall enters.)
+fn split_off_analytic(kids: &mut Vec<Kid>, num_tris: u32, aabbs: &[Aabb]) {
+    while kids.len() < WIDTH {
+        let found = kids.iter().enumerate().find_map(|(i, kid)| match kid {
+            Kid::Leaf(ids, _) if ids.len() > 1 => ids.iter().position(|&id| id >= num_tris).map(|j| (i, j)),
+            _ => None,
+        });
+        let Some((i, j)) = found else { return };
+        if let Kid::Leaf(ids, rest) = &mut kids[i] {
+            let id = ids.remove(j);
+            *rest = ids.iter().fold(Aabb::empty(), |b, &r| b.union(&aabbs[r as usize]));
+            kids.push(Kid::Leaf(vec![id], aabbs[id as usize]));
+        }
+    }
+}
+
 pub struct WideBvh {
     nodes: Vec<Node>,
     leaves: Vec<LeafRange>,
@@ -102,7 +137,7 @@ impl WideBvh {
             let params = BvhBuildParams { max_prims_per_leaf: 8, ..BvhBuildParams::medium_build() };
             obvhs::bvh2::builder::build_bvh2(&aabbs, params, &mut Duration::default())
         };
-        out.root = out.collapse(&bvh2, 0, prims, 1);
+        out.root = out.collapse(&bvh2, 0, prims, &aabbs, 1);
         out
     }
 
@@ -156,14 +191,6 @@ impl WideBvh {
         Some(range(a).chain(range(b)).map(|i| bvh2.primitive_indices[i as usize]).collect())
     }
 
-    /// Pack BVH2 leaf `node`'s primitives; returns the leaf's child slot.
-    fn add_leaf(&mut self, bvh2: &Bvh2, node: usize, prims: &Primitives) -> u32 {
-        let nd = &bvh2.nodes[node];
-        let ids: Vec<u32> =
-            (nd.first_index..nd.first_index + nd.prim_count).map(|i| bvh2.primitive_indices[i as usize]).collect();
-        self.add_leaf_ids(&ids, prims)
-    }
-
     /// Pack primitives `ids` into a new leaf; returns the leaf's child slot.
     fn add_leaf_ids(&mut self, ids: &[u32], prims: &Primitives) -> u32 {
         let nt = prims.num_tris();
@@ -190,24 +217,31 @@ impl WideBvh {
         LEAF_BIT | (self.leaves.len() as u32 - 1)
     }
 
-    /// Collapse the BVH2 subtree at `node` into 8-wide nodes (depth first, a parent before its children); returns
-    /// its child slot.
-    fn collapse(&mut self, bvh2: &Bvh2, node: usize, prims: &Primitives, depth: usize) -> u32 {
-        self.depth = self.depth.max(depth);
-        let nd = &bvh2.nodes[node];
+    /// The primitives of BVH2 node `k` if it becomes one leaf (a BVH2 leaf, or two leaves merged).
+    fn leaf_ids(bvh2: &Bvh2, k: usize) -> Option<Vec<u32>> {
+        let nd = &bvh2.nodes[k];
         if nd.prim_count > 0 {
-            return self.add_leaf(bvh2, node, prims);
+            let range = nd.first_index..nd.first_index + nd.prim_count;
+            return Some(range.map(|i| bvh2.primitive_indices[i as usize]).collect());
         }
-        if let Some(ids) = Self::merged_leaf_ids(bvh2, node) {
+        Self::merged_leaf_ids(bvh2, k)
+    }
+
+    /// Collapse the BVH2 subtree at `node` into 8-wide nodes (depth first, a parent before its children); returns
+    /// its child slot. `aabbs` are the primitives' (padded) boxes the BVH2 was built from.
+    fn collapse(&mut self, bvh2: &Bvh2, node: usize, prims: &Primitives, aabbs: &[Aabb], depth: usize) -> u32 {
+        self.depth = self.depth.max(depth);
+        if let Some(ids) = Self::leaf_ids(bvh2, node) {
             return self.add_leaf_ids(&ids, prims);
         }
+        let nd = &bvh2.nodes[node];
         // Open the inner child of largest surface area until there are WIDTH children.
         let mut kids = vec![nd.first_index as usize, nd.first_index as usize + 1];
         while kids.len() < WIDTH {
             let best = kids
                 .iter()
                 .enumerate()
-                .filter(|(_, k)| bvh2.nodes[**k].prim_count == 0 && Self::merged_leaf_ids(bvh2, **k).is_none())
+                .filter(|(_, k)| Self::leaf_ids(bvh2, **k).is_none())
                 .max_by(|a, b| bvh2.nodes[*a.1].aabb.half_area().total_cmp(&bvh2.nodes[*b.1].aabb.half_area()))
                 .map(|(i, _)| i);
             let Some(i) = best else { break };
@@ -215,6 +249,14 @@ impl WideBvh {
             let first = bvh2.nodes[k].first_index as usize;
             kids.extend([first, first + 1]);
         }
+        let mut kids: Vec<Kid> = kids
+            .into_iter()
+            .map(|k| match Self::leaf_ids(bvh2, k) {
+                Some(ids) => Kid::Leaf(ids, bvh2.nodes[k].aabb),
+                None => Kid::Subtree(k, bvh2.nodes[k].aabb),
+            })
+            .collect();
+        split_off_analytic(&mut kids, prims.num_tris(), aabbs);
         let me = self.nodes.len();
         // Empty slots: a box from +inf to -inf, which no ray meets.
         let mut b = [
@@ -225,16 +267,22 @@ impl WideBvh {
             [f32::NEG_INFINITY; WIDTH],
             [f32::NEG_INFINITY; WIDTH],
         ];
-        for (lane, &k) in kids.iter().enumerate() {
-            let a = bvh2.nodes[k].aabb;
+        for (lane, kid) in kids.iter().enumerate() {
+            let a = kid.aabb();
             for axis in 0..3 {
                 b[axis][lane] = a.min[axis];
                 b[3 + axis][lane] = a.max[axis];
             }
         }
         self.nodes.push(Node { b, child: [EMPTY; WIDTH] });
-        for (lane, &k) in kids.iter().enumerate() {
-            let slot = self.collapse(bvh2, k, prims, depth + 1);
+        for (lane, kid) in kids.iter().enumerate() {
+            let slot = match kid {
+                Kid::Subtree(k, _) => self.collapse(bvh2, *k, prims, aabbs, depth + 1),
+                Kid::Leaf(ids, _) => {
+                    self.depth = self.depth.max(depth + 1);
+                    self.add_leaf_ids(ids, prims)
+                }
+            };
             self.nodes[me].child[lane] = slot;
         }
         me as u32
@@ -425,6 +473,21 @@ impl WideBvh {
     /// same bit for bit, only the speed differs).
     pub fn use_baseline_boxes(&mut self) {
         self.avx = None;
+    }
+
+    /// The primitives of each leaf, in leaf order (for tests and tools).
+    pub fn leaf_primitives(&self) -> Vec<Vec<u32>> {
+        self.leaves
+            .iter()
+            .map(|l| {
+                let mut ids = vec![];
+                for p in &self.packets[l.first as usize..(l.first + l.count) as usize] {
+                    let used = p.tri_lanes | p.other_lanes;
+                    ids.extend((0..4).filter(|&k| used & (1 << k) != 0).map(|k| p.ids[k]));
+                }
+                ids
+            })
+            .collect()
     }
 
     /// Whether queries use the 8-wide AVX box test.
