@@ -349,3 +349,64 @@ fn refraction_scales_radiance_by_one_over_eta_squared_but_not_importance() {
     let c = wo.dot(ns).abs() * wi.z.abs() / (wo.z.abs() * wi.dot(ns).abs());
     assert!((fi - fr * c).abs() < 1e-6, "{fi} vs {fr} x {c}");
 }
+
+/// `Lobe::eval_pdf` (what next-event estimation and BSDF sampling call, sharing the half vector, `D` and `G1(wo)`
+/// between value and density) must return exactly `(eval, pdf)`: the same numbers bit for bit, for every lobe, on
+/// random direction pairs above, below and across the surface and on directions the lobes sample, grazing ones and
+/// `wo` from inside included, in both transport modes.
+#[test]
+fn fused_microfacet_value_and_density_equal_eval_and_pdf_bit_for_bit() {
+    let lobes = [
+        Lobe::Conductor {
+            alpha: 0.2,
+            fresnel: ConductorFresnel::Complex { eta: Vec3::new(0.14, 0.37, 1.44), k: Vec3::new(3.98, 2.38, 1.6) },
+            scale: Vec3::ONE,
+        },
+        Lobe::Conductor { alpha: 0.02, fresnel: ConductorFresnel::Schlick(Vec3::splat(0.9)), scale: Vec3::ONE },
+        Lobe::RoughDielectric { alpha: 0.15, r: Vec3::ONE, t: Vec3::ONE, eta: 1.5 },
+        Lobe::RoughDielectric { alpha: 0.6, r: Vec3::splat(0.8), t: Vec3::splat(0.9), eta: 1.0 / 1.33 },
+        Lobe::Diffuse { albedo: Vec3::splat(0.5) },
+        Lobe::Plastic { alpha: 0.1, eta: 1.5, diffuse: Vec3::splat(0.5), specular: Vec3::ONE, fdr_int: 0.6 },
+    ];
+    let mut rng = Rng::new(17, 3);
+    let mut nonzero = [0usize; 2];
+    for lobe in &lobes {
+        for k in 0..20000 {
+            let random_dir = |rng: &mut Rng| {
+                let (z, phi) = (2.0 * rng.next_f32() - 1.0, 2.0 * std::f32::consts::PI * rng.next_f32());
+                let r = (1.0 - z * z).max(0.0).sqrt();
+                Vec3A::new(r * phi.cos(), r * phi.sin(), z)
+            };
+            let mut wo = random_dir(&mut rng);
+            let mut wi = random_dir(&mut rng);
+            if k % 10 == 0 {
+                wo.z *= 1e-4; // grazing
+                wo = wo.normalize();
+            }
+            if k % 7 == 0 {
+                wi = Vec3A::new(-wo.x, -wo.y, wo.z); // the mirror direction: the half vector is the normal
+            } else if k % 3 == 0 {
+                // A direction the lobe itself samples (where transmission has its density).
+                let u = glam::Vec2::new(rng.next_f32(), rng.next_f32());
+                if let Some(s) =
+                    lobe.sample(wo.z.abs() * Vec3A::Z + wo.with_z(0.0), rng.next_f32(), u, TransportMode::Radiance)
+                {
+                    wo.z = wo.z.abs();
+                    wi = s.wi;
+                }
+            }
+            for mode in [TransportMode::Radiance, TransportMode::Importance] {
+                let (f, p) = lobe.eval_pdf(wo, wi, mode);
+                let (fe, pe) = (lobe.eval(wo, wi, mode), lobe.pdf(wo, wi));
+                let bits = |v: Vec3| v.to_array().map(f32::to_bits);
+                assert_eq!(
+                    (bits(f), p.to_bits()),
+                    (bits(fe), pe.to_bits()),
+                    "{lobe:?} wo {wo} wi {wi} {mode:?}: fused ({f}, {p}) vs ({fe}, {pe})"
+                );
+                nonzero[(wi.z < 0.0) as usize] += (p > 0.0) as usize;
+            }
+        }
+    }
+    assert!(nonzero[0] > 10000 && nonzero[1] > 5000, "too few directions with a density: {nonzero:?}");
+}

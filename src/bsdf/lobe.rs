@@ -225,6 +225,29 @@ impl Lobe {
         }
     }
 
+    /// `(eval, pdf)` of one direction together, bit for bit what [`Lobe::eval`] and [`Lobe::pdf`] return: the
+    /// microfacet lobes compute the half vector, `D` and `G1(wo)` once instead of twice (next-event estimation
+    /// with MIS and BSDF sampling need both).
+    #[inline]
+    pub fn eval_pdf(&self, wo: Vec3A, wi: Vec3A, mode: TransportMode) -> (Vec3, f32) {
+        match *self {
+            Lobe::Conductor { alpha, fresnel, scale } if alpha != 0.0 => {
+                if !(wo.z > 0.0 && wi.z > 0.0) {
+                    return (Vec3::ZERO, 0.0);
+                }
+                let h = (wo + wi).normalize();
+                let (g1o, d) = (ggx_g1(wo, h, alpha), ggx_d(h, alpha));
+                let g = g1o * ggx_g1(wi, h, alpha);
+                let f = fresnel.eval(wo.dot(h)) * scale * (d * g / (4.0 * wo.z * wi.z));
+                // `visible_pdf(wo, h) / (4 wo.h)`, its factors shared with `f`.
+                let pdf = g1o * wo.dot(h).max(0.0) * d / wo.z / (4.0 * wo.dot(h));
+                (f, pdf)
+            }
+            Lobe::RoughDielectric { alpha, r, t, eta } => rough_dielectric_eval_pdf(alpha, r, t, eta, wo, wi, mode),
+            _ => (self.eval(wo, wi, mode), self.pdf(wo, wi)),
+        }
+    }
+
     /// Density (solid angle) with which [`Lobe::sample`] draws `wi` (0 for delta lobes).
     #[inline]
     pub fn pdf(&self, wo: Vec3A, wi: Vec3A) -> f32 {
@@ -403,4 +426,57 @@ fn rough_dielectric_pdf(alpha: f32, eta: f32, wo: Vec3A, wi: Vec3A) -> f32 {
     let denom = om + eta * im;
     let p = (1.0 - f) * visible_pdf(wo, m, alpha) * eta * eta * im.abs() / (denom * denom);
     if p.is_finite() { p } else { 0.0 }
+}
+
+/// `(rough_dielectric_eval, rough_dielectric_pdf)` with the half vector, `D` and `G1(wo)` computed once: the same
+/// operations in the same order as the two functions, so the same values bit for bit.
+#[allow(clippy::too_many_arguments)]
+fn rough_dielectric_eval_pdf(
+    alpha: f32,
+    r: Vec3,
+    t: Vec3,
+    eta: f32,
+    wo: Vec3A,
+    wi: Vec3A,
+    mode: TransportMode,
+) -> (Vec3, f32) {
+    if wo.z <= 0.0 || wi.z == 0.0 {
+        // The pdf is 0 there (directions are only sampled from above).
+        return (rough_dielectric_eval(alpha, r, t, eta, wo, wi, mode), 0.0);
+    }
+    if wi.z > 0.0 {
+        // Reflection: both above, so the half vector is too (eval's flip to +z does nothing).
+        let m = (wo + wi).normalize();
+        let c = wo.dot(m);
+        let f_eval = fresnel_dielectric(c.abs(), eta);
+        let f_pdf = if c >= 0.0 { f_eval } else { fresnel_dielectric(c, eta) };
+        let (g1o, d) = (ggx_g1(wo, m, alpha), ggx_d(m, alpha));
+        let g = g1o * ggx_g1(wi, m, alpha);
+        let value = r * (f_eval * d * g / (4.0 * (wo.z * wi.z).abs()));
+        let pdf = f_pdf * (g1o * c.max(0.0) * d / wo.z) / (4.0 * c.abs());
+        return (value, pdf);
+    }
+    let Some(m) = half_transmit(wo, wi, eta) else { return (Vec3::ZERO, 0.0) };
+    let (om, im) = (wo.dot(m), wi.dot(m));
+    let (g1o, d) = (ggx_g1(wo, m, alpha), ggx_d(m, alpha));
+    let g = g1o * ggx_g1(wi, m, alpha);
+    let f_eval = fresnel_dielectric(om.abs(), eta);
+    let denom = om + eta * im;
+    let value = if g == 0.0 {
+        Vec3::ZERO
+    } else {
+        let mut v = (1.0 - f_eval) * d * g * (om * im).abs() / ((wo.z * wi.z).abs() * denom * denom);
+        if mode == TransportMode::Importance {
+            v *= eta * eta;
+        }
+        if v.is_finite() { t * v } else { Vec3::ZERO }
+    };
+    let pdf = if om <= 0.0 || im >= 0.0 {
+        0.0
+    } else {
+        // om > 0: the same Fresnel term as the value's.
+        let p = (1.0 - f_eval) * (g1o * om.max(0.0) * d / wo.z) * eta * eta * im.abs() / (denom * denom);
+        if p.is_finite() { p } else { 0.0 }
+    };
+    (value, pdf)
 }

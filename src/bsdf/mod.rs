@@ -321,7 +321,16 @@ impl Bsdf {
         if !self.smooth || !self.consistent(wi, wl) {
             return (Vec3::ZERO, 0.0);
         }
-        (self.eval_local(wl, TransportMode::Radiance), self.pdf_local(wl))
+        self.eval_pdf_local(wl, TransportMode::Radiance)
+    }
+
+    /// `eval_local` and `pdf_local` together (a lone lobe shares their common factors: [`Lobe::eval_pdf`]).
+    #[inline]
+    fn eval_pdf_local(&self, wl: Vec3A, mode: TransportMode) -> (Vec3, f32) {
+        if self.len == 1 {
+            return self.lobes[0].eval_pdf(self.wo_local, wl, mode);
+        }
+        (self.eval_local(wl, mode), self.pdf_local(wl))
     }
 
     /// Mixture pdf (solid angle) with which `sample` produces `wi` through a smooth lobe.
@@ -394,11 +403,10 @@ impl Bsdf {
             let eta = if s.wi.z * self.wo_local.z < 0.0 { lobe.radiance_eta() } else { 1.0 };
             return Some(BsdfSample { wi, weight, pdf: 0.0, delta: true, eta });
         }
-        let pdf = self.pdf_local(s.wi);
+        let (f, pdf) = self.eval_pdf_local(s.wi, mode);
         if pdf <= 0.0 || !pdf.is_finite() {
             return None;
         }
-        let f = self.eval_local(s.wi, mode);
         let weight = f * (s.wi.z.abs() * self.correction(wi, mode) / pdf);
         if !weight.is_finite() {
             return None;
