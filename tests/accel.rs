@@ -213,6 +213,37 @@ fn the_bvhs_avx_and_sse_box_tests_give_the_same_traversal_bit_for_bit() {
     assert!(wide.iter().filter(|a| a.0.is_some()).count() > all.len() / 4, "too few hits: the test would be weak");
 }
 
+/// A BVH query starts with a 32-entry traversal stack (zeroing one sized for the tree's depth costs a `memset` on
+/// deep trees) and starts again with a full one when a node's children would overflow it: the answer, and the
+/// work counted, must not change. Forced here by a first stack of 8 entries, which every ray outgrows at the
+/// first node it meets with a non-empty stack (so every ray that visits three nodes or more starts again).
+#[test]
+fn a_bvh_query_that_outgrows_its_first_stack_starts_again_with_the_same_answer() {
+    let mut app = setup_ron(&bunny_scene_text(), AccelKind::Bvh);
+    let rays_camera = rays(scene(&app), 4000, 3);
+    let (bounce, shadow) = secondary_rays(scene(&app), &rays_camera, 5);
+    let all: Vec<Ray> = rays_camera.iter().chain(&bounce).chain(&shadow).copied().collect();
+    let answers = |s: &Scene| -> Vec<_> {
+        all.iter()
+            .map(|r| {
+                let mut work = TraversalWork::default();
+                let h = s.accel.intersect_counted(&s.prims, r, &mut work);
+                let plain = s.intersect(r).map(|h| (h.prim, h.t.to_bits(), h.b1.to_bits(), h.b2.to_bits()));
+                (h.map(|h| (h.prim, h.t.to_bits(), h.b1.to_bits(), h.b2.to_bits())), plain, s.occluded(r), work)
+            })
+            .collect()
+    };
+    let normal = answers(scene(&app));
+    let s = app.resources.scene.as_mut().expect("a scene");
+    let Accel::Bvh(bvh) = &mut s.accel else { panic!("the BVH was asked for") };
+    bvh.set_first_stack(8);
+    let restarted = answers(scene(&app));
+    let differ = normal.iter().zip(&restarted).filter(|(a, b)| a != b).count();
+    assert_eq!(differ, 0, "{differ} of {} rays answer differently after a restart", all.len());
+    let deep = normal.iter().filter(|a| a.3.nodes >= 3).count();
+    assert!(deep > all.len() / 5, "only {deep} of {} rays visit 3 nodes or more: too few restarts", all.len());
+}
+
 /// An analytic primitive (a sphere here; also revolutions and patches) costs several triangle tests — divisions,
 /// square roots, Newton steps — while a node tests all eight child boxes in one operation. So where a node has
 /// room the wide BVH gives each analytic primitive a leaf of its own, and rays that do not come near it never test

@@ -5,7 +5,7 @@
 //! [`TraversalWork`].
 
 /// Something that is told about every node/cell visit and every primitive test of one ray.
-pub trait WorkCounter {
+pub trait WorkCounter: Copy {
     /// A BVH node, kd-tree node or grid cell was visited.
     fn node(&mut self);
     /// A primitive was tested for intersection.
@@ -13,6 +13,7 @@ pub trait WorkCounter {
 }
 
 /// The counter of the normal path: counts nothing.
+#[derive(Clone, Copy, Debug)]
 pub struct NoCount;
 
 impl WorkCounter for NoCount {

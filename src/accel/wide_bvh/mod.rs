@@ -15,9 +15,10 @@
 //! (measured in the README's performance section).
 //!
 //! Traversal: ordered (children pushed far to near by their entry distance, so the nearest is taken first), with a
-//! fixed stack; box tests are robust to axis-parallel rays (reciprocals clamped to +-1e25, -0 treated as +0) and
-//! conservative against rounding (the exit distance is scaled by `1 + 2 gamma(3)`, Ize 2013). Occlusion stops at
-//! the first hit.
+//! 32-entry stack, which a query that would overflow it (rare) exchanges for one sized from the tree's depth by
+//! starting again; box tests are robust to axis-parallel rays (reciprocals clamped to +-1e25, -0 treated as +0)
+//! and conservative against rounding (the exit distance is scaled by `1 + 2 gamma(3)`, Ize 2013). Occlusion stops
+//! at the first hit.
 
 use super::work::{NoCount, TraversalWork, WorkCounter};
 use super::{AccelStats, Accelerator};
@@ -35,7 +36,7 @@ mod boxes;
 /// Child slot markers.
 const LEAF_BIT: u32 = 1 << 31;
 const EMPTY: u32 = u32::MAX;
-/// Traversal stack kept on the call stack; trees deeper than `STACK / (WIDTH - 1)` (degenerate input: thousands of
+/// The full traversal stack kept on the call stack (after a restart); trees deeper than `STACK / (WIDTH - 1)` (degenerate input: thousands of
 /// identical boxes) traverse with a heap stack sized from their depth instead.
 const STACK: usize = 128;
 
@@ -112,6 +113,8 @@ pub struct WideBvh {
     depth: usize,
     /// AVX2 and FMA, if this CPU has them: the 8-wide box test (`boxes.rs`).
     avx: Option<V3>,
+    /// Entries of the stack a query starts with (32; fewer in tests, to force the restart with a full one).
+    first_stack: usize,
     pub(super) build_time: Duration,
 }
 
@@ -125,6 +128,7 @@ impl WideBvh {
             root: EMPTY,
             depth: 0,
             avx: V3::try_new(),
+            first_stack: 32,
             build_time: Duration::ZERO,
         };
         if aabbs.is_empty() {
@@ -349,21 +353,29 @@ impl WideBvh {
         if self.root == EMPTY {
             return None;
         }
-        // The smallest stack that fits: zeroing it is part of every query's cost.
+        // Zeroing the stack is part of every query's cost (a `memset` of up to 1 KiB on deep trees), so every
+        // query starts with 32 entries, enough for all but rare rays; one that would overflow them starts again
+        // with a stack that fits the tree's depth (the same answer and, counted afresh, the same work).
+        let saved = *counter;
+        let mut small = [(0u32, 0f32); 32];
+        let first = &mut small[..self.first_stack];
+        if let Some(hit) = self.query_with::<ANY, C, B>(prims, ray, counter, first, rb) {
+            return hit;
+        }
+        *counter = saved;
         let need = (WIDTH - 1) * self.depth + 4;
-        if need <= 32 {
-            let mut stack = [(0u32, 0f32); 32];
-            self.query_with::<ANY, C, B>(prims, ray, counter, &mut stack, rb)
-        } else if need <= STACK {
+        let done = if need <= STACK {
             let mut stack = [(0u32, 0f32); STACK];
             self.query_with::<ANY, C, B>(prims, ray, counter, &mut stack, rb)
         } else {
-            let mut stack = vec![(0u32, 0f32); (WIDTH - 1) * self.depth + 4];
+            let mut stack = vec![(0u32, 0f32); need];
             self.query_with::<ANY, C, B>(prims, ray, counter, &mut stack, rb)
-        }
+        };
+        done.unwrap_or(None)
     }
 
-    /// The traversal with a stack of at least `(WIDTH - 1) depth + 4` entries, testing boxes with `rb`.
+    /// The traversal, testing boxes with `rb`; `None` if `stack` would overflow (never with `(WIDTH - 1) depth + 4`
+    /// entries or more).
     #[inline(always)]
     fn query_with<const ANY: bool, C: WorkCounter, B: BoxTest>(
         &self,
@@ -372,7 +384,7 @@ impl WideBvh {
         counter: &mut C,
         stack: &mut [(u32, f32)],
         rb: &B,
-    ) -> Option<Hit> {
+    ) -> Option<Option<Hit>> {
         let wt = WatertightRay::new(ray);
         let mut best: Option<Hit> = None;
         let mut end = ray.tmax;
@@ -381,13 +393,16 @@ impl WideBvh {
         loop {
             if cur & LEAF_BIT != 0 {
                 if self.test_leaf::<ANY, C>(cur & !LEAF_BIT, prims, ray, &wt, &mut end, &mut best, counter) {
-                    return best;
+                    return Some(best);
                 }
             } else {
                 counter.node();
                 let n = &self.nodes[cur as usize];
                 let (t, mut mask) = rb.test(n, end);
                 if mask != 0 {
+                    if sp + WIDTH > stack.len() {
+                        return None;
+                    }
                     let first = mask.trailing_zeros() as usize;
                     let rest = mask & (mask - 1);
                     if rest == 0 {
@@ -435,7 +450,7 @@ impl WideBvh {
             // Next: the nearest pending child that starts before the closest hit so far.
             loop {
                 if sp == 0 {
-                    return best;
+                    return Some(best);
                 }
                 sp -= 1;
                 let (c, t) = stack[sp];
@@ -488,6 +503,12 @@ impl WideBvh {
                 ids
             })
             .collect()
+    }
+
+    /// Start every query with a stack of only `entries` (at most 32) so that most overflow it and start again
+    /// with a full one (for tests: the answers and the work counted must not change).
+    pub fn set_first_stack(&mut self, entries: usize) {
+        self.first_stack = entries.min(32);
     }
 
     /// Whether queries use the 8-wide AVX box test.
