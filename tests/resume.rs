@@ -198,3 +198,19 @@ fn broken_foreign_and_mismatched_films_are_one_line_errors() {
         assert!(!o.status.success() && err.contains(needle), "{args:?}: {err}");
     }
 }
+
+/// Checkpoints come every `--checkpoint` seconds: the first one interval into the render, not after its first pass
+/// (writing images and the film is one thread's work; after every first pass it stalled the other threads of every
+/// short render, 20 ms of a 0.6 s `ppm` render), then one interval after the last.
+#[test]
+fn the_first_checkpoint_comes_one_interval_into_the_render() {
+    use prism::render::checkpoint_due;
+    use std::time::Duration;
+    let every = Duration::from_secs(10);
+    let s = Duration::from_secs_f64;
+    assert!(!checkpoint_due(None, s(0.05), every), "not after a first pass of 50 ms");
+    assert!(!checkpoint_due(None, s(9.9), every));
+    assert!(checkpoint_due(None, s(10.0), every), "one interval into the render");
+    assert!(!checkpoint_due(Some(s(3.0)), s(25.0), every), "the last checkpoint was 3 s ago");
+    assert!(checkpoint_due(Some(s(10.5)), s(25.0), every));
+}

@@ -30,7 +30,7 @@ use crate::primitives::{EntityPrims, Primitives};
 use crate::scene::Scene;
 use hecs::World;
 use std::sync::atomic::Ordering;
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 /// Entities with area lights and their primitive ranges, from BuildAccel to Prepare.
 struct Emitters(Vec<(hecs::Entity, EntityPrims)>);
@@ -275,7 +275,7 @@ pub fn accumulate_system(_world: &mut World, res: &mut Resources) -> Result<()> 
     // Checkpoint: keep what was rendered on disk (images and the resumable film) while long renders run.
     if !finished
         && let Some(every) = res.checkpoint_every
-        && res.get::<LastCheckpoint>().is_none_or(|c| c.0.elapsed() >= every)
+        && checkpoint_due(res.get::<LastCheckpoint>().map(|c| c.0.elapsed()), res.progress.elapsed, every)
     {
         write_outputs(res)?;
         save_film(res)?;
@@ -297,6 +297,14 @@ fn write_film_to(res: &Resources, path: &std::path::Path) -> Result<()> {
 }
 
 struct LastCheckpoint(Instant);
+
+/// Whether a checkpoint is due after a pass: `every` since the last one or, before the first, since the render
+/// started (`since_start`). The first comes one interval into the render, not after its first pass: a render shorter
+/// than the interval writes none (its outputs are written when it finishes), and the write — images and the film,
+/// one thread's work — does not stall the threads of every short render.
+pub fn checkpoint_due(since_last: Option<Duration>, since_start: Duration, every: Duration) -> bool {
+    since_last.unwrap_or(since_start) >= every
+}
 
 pub fn output_system(_world: &mut World, res: &mut Resources) -> Result<()> {
     if let Some(bar) = res.get::<ProgressReporter>() {
