@@ -182,32 +182,41 @@ fn every_accelerator_matches_brute_force_on_the_stanford_bunny_with_spheres_elli
     }
 }
 
+/// Camera, bounce and shadow rays of the bunny scene, and every traversal answer for them bit for bit: the closest
+/// hit counted and uncounted (primitive, `t`, barycentrics), occlusion, and the work counted.
+type Answer = (Option<(u32, u32, u32, u32)>, Option<(u32, u32, u32, u32)>, bool, TraversalWork);
+
+fn bunny_traversal_rays(app: &prism::App) -> Vec<Ray> {
+    let rays_camera = rays(scene(app), 4000, 3);
+    let (bounce, shadow) = secondary_rays(scene(app), &rays_camera, 5);
+    rays_camera.iter().chain(&bounce).chain(&shadow).copied().collect()
+}
+
+fn traversal_answers(s: &Scene, all: &[Ray]) -> Vec<Answer> {
+    let bits = |h: Hit| (h.prim, h.t.to_bits(), h.b1.to_bits(), h.b2.to_bits());
+    all.iter()
+        .map(|r| {
+            let mut work = TraversalWork::default();
+            let counted = s.accel.intersect_counted(&s.prims, r, &mut work).map(bits);
+            (counted, s.intersect(r).map(bits), s.occluded(r), work)
+        })
+        .collect()
+}
+
 /// The wide BVH tests a node's eight child boxes with one AVX operation per step where the CPU has AVX2, with
 /// two SSE operations elsewhere; both compute every lane with the same operations in the same order, so the
 /// traversal visits the same nodes and primitives in the same order and every answer is the same bit for bit.
 /// (On a CPU without AVX2 both sides are the SSE test.)
 #[test]
 fn the_bvhs_avx_and_sse_box_tests_give_the_same_traversal_bit_for_bit() {
-    let text = bunny_scene_text();
-    let mut app = setup_ron(&text, AccelKind::Bvh);
-    let rays_camera = rays(scene(&app), 4000, 3);
-    let (bounce, shadow) = secondary_rays(scene(&app), &rays_camera, 5);
-    let all: Vec<Ray> = rays_camera.iter().chain(&bounce).chain(&shadow).copied().collect();
-    let answers = |s: &Scene| -> Vec<_> {
-        all.iter()
-            .map(|r| {
-                let mut work = TraversalWork::default();
-                let h = s.accel.intersect_counted(&s.prims, r, &mut work);
-                (h.map(|h| (h.prim, h.t.to_bits(), h.b1.to_bits(), h.b2.to_bits())), s.occluded(r), work)
-            })
-            .collect()
-    };
-    let wide = answers(scene(&app));
+    let mut app = setup_ron(&bunny_scene_text(), AccelKind::Bvh);
+    let all = bunny_traversal_rays(&app);
+    let wide = traversal_answers(scene(&app), &all);
     let s = app.resources.scene.as_mut().expect("a scene");
     let Accel::Bvh(bvh) = &mut s.accel else { panic!("the BVH was asked for") };
     eprintln!("AVX box test available: {}", bvh.uses_avx_boxes());
     bvh.use_baseline_boxes();
-    let narrow = answers(scene(&app));
+    let narrow = traversal_answers(scene(&app), &all);
     let differ = wide.iter().zip(&narrow).filter(|(a, b)| a != b).count();
     assert_eq!(differ, 0, "{differ} of {} rays traverse differently (hit, occlusion or nodes visited)", all.len());
     assert!(wide.iter().filter(|a| a.0.is_some()).count() > all.len() / 4, "too few hits: the test would be weak");
@@ -220,24 +229,12 @@ fn the_bvhs_avx_and_sse_box_tests_give_the_same_traversal_bit_for_bit() {
 #[test]
 fn a_bvh_query_that_outgrows_its_first_stack_starts_again_with_the_same_answer() {
     let mut app = setup_ron(&bunny_scene_text(), AccelKind::Bvh);
-    let rays_camera = rays(scene(&app), 4000, 3);
-    let (bounce, shadow) = secondary_rays(scene(&app), &rays_camera, 5);
-    let all: Vec<Ray> = rays_camera.iter().chain(&bounce).chain(&shadow).copied().collect();
-    let answers = |s: &Scene| -> Vec<_> {
-        all.iter()
-            .map(|r| {
-                let mut work = TraversalWork::default();
-                let h = s.accel.intersect_counted(&s.prims, r, &mut work);
-                let plain = s.intersect(r).map(|h| (h.prim, h.t.to_bits(), h.b1.to_bits(), h.b2.to_bits()));
-                (h.map(|h| (h.prim, h.t.to_bits(), h.b1.to_bits(), h.b2.to_bits())), plain, s.occluded(r), work)
-            })
-            .collect()
-    };
-    let normal = answers(scene(&app));
+    let all = bunny_traversal_rays(&app);
+    let normal = traversal_answers(scene(&app), &all);
     let s = app.resources.scene.as_mut().expect("a scene");
     let Accel::Bvh(bvh) = &mut s.accel else { panic!("the BVH was asked for") };
     bvh.set_first_stack(8);
-    let restarted = answers(scene(&app));
+    let restarted = traversal_answers(scene(&app), &all);
     let differ = normal.iter().zip(&restarted).filter(|(a, b)| a != b).count();
     assert_eq!(differ, 0, "{differ} of {} rays answer differently after a restart", all.len());
     let deep = normal.iter().filter(|a| a.3.nodes >= 3).count();

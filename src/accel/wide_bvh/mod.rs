@@ -2,12 +2,12 @@
 //! reinsertion, leaves of up to eight primitives; the top-down build of `bvh_fallback.rs` when many primitives share
 //! a Morton cell), then collapsed into nodes of eight children (a node with slots to spare gives each analytic
 //! primitive that shares a leaf a leaf of its own: `split_off_analytic`) whose boxes are stored as structure of
-//! arrays (each box plane's eight values side by side), so one ray is tested against all eight boxes with one AVX operation per
-//! step where the CPU has AVX2, or against four with one SSE operation elsewhere (`boxes.rs`; the same traversal
-//! bit for bit either way), and leaves hold their triangles four to a [`TriPacket`] (the same conservative SIMD
-//! pre-filter and exact watertight test the kd-tree uses). With AVX2 the whole query is compiled for AVX2 and FMA
-//! through `pulp` (safe Rust; the features are detected at run time) — Rust never fuses a multiply and an add on
-//! its own, so the answers do not change with the target.
+//! arrays (each box plane's eight values side by side), so one ray is tested against all eight boxes with one AVX
+//! operation per step where the CPU has AVX2, or against four with one SSE operation elsewhere (`boxes.rs`; the
+//! same traversal bit for bit either way), and leaves hold their triangles four to a [`TriPacket`] (the same
+//! conservative SIMD pre-filter and exact watertight test the kd-tree uses). With AVX2 the whole query is compiled
+//! for AVX2 and FMA through `pulp` (safe Rust; the features are detected at run time) — Rust never fuses a multiply
+//! and an add on its own, so the answers do not change with the target.
 //!
 //! Why not obvhs's own CWBVH traversal (still available as `--accel cwbvh`, `bvh.rs`): its 8-wide nodes are
 //! quantised for GPU memory bandwidth (Ylitie et al. 2017), so every node visit first decompresses eight boxes; on
@@ -36,8 +36,8 @@ mod boxes;
 /// Child slot markers.
 const LEAF_BIT: u32 = 1 << 31;
 const EMPTY: u32 = u32::MAX;
-/// The full traversal stack kept on the call stack (after a restart); trees deeper than `STACK / (WIDTH - 1)` (degenerate input: thousands of
-/// identical boxes) traverse with a heap stack sized from their depth instead.
+/// The full traversal stack kept on the call stack (after a restart); trees deeper than `STACK / (WIDTH - 1)`
+/// (degenerate input: thousands of identical boxes) traverse with a heap stack sized from their depth instead.
 const STACK: usize = 128;
 
 /// Children per node.
