@@ -7,7 +7,7 @@
 use crate::common::{app_from_file, app_from_ron, data};
 use glam::Vec3A;
 use prism::accel::ray_sets::{camera_rays, secondary_rays};
-use prism::accel::{Accel, KdTree, TraversalWork, UniformGrid};
+use prism::accel::{Accel, KdTree, TraversalWork, UniformGrid, WideBvh};
 use prism::geometry::{NO_PRIM, Ray, WatertightRay};
 use prism::primitives::Hit;
 use prism::sampling::{Rng, warp};
@@ -182,15 +182,9 @@ fn every_accelerator_matches_brute_force_on_the_stanford_bunny_with_spheres_elli
     }
 }
 
-/// Camera, bounce and shadow rays of the bunny scene, and every traversal answer for them bit for bit: the closest
-/// hit counted and uncounted (primitive, `t`, barycentrics), occlusion, and the work counted.
+/// One ray's traversal answers bit for bit: the closest hit counted and uncounted (primitive, `t`, barycentrics),
+/// occlusion, and the work counted.
 type Answer = (Option<(u32, u32, u32, u32)>, Option<(u32, u32, u32, u32)>, bool, TraversalWork);
-
-fn bunny_traversal_rays(app: &prism::App) -> Vec<Ray> {
-    let rays_camera = rays(scene(app), 4000, 3);
-    let (bounce, shadow) = secondary_rays(scene(app), &rays_camera, 5);
-    rays_camera.iter().chain(&bounce).chain(&shadow).copied().collect()
-}
 
 fn traversal_answers(s: &Scene, all: &[Ray]) -> Vec<Answer> {
     let bits = |h: Hit| (h.prim, h.t.to_bits(), h.b1.to_bits(), h.b2.to_bits());
@@ -203,23 +197,35 @@ fn traversal_answers(s: &Scene, all: &[Ray]) -> Vec<Answer> {
         .collect()
 }
 
+/// The answers of the bunny scene's BVH for its camera, bounce and shadow rays as built, then after `change` (an
+/// implementation switch that must not change any of them): the answers before, and how many rays answer
+/// differently after.
+fn bvh_answers_before_and_after(change: impl FnOnce(&mut WideBvh)) -> (Vec<Answer>, usize) {
+    let mut app = setup_ron(&bunny_scene_text(), AccelKind::Bvh);
+    let rays_camera = rays(scene(&app), 4000, 3);
+    let (bounce, shadow) = secondary_rays(scene(&app), &rays_camera, 5);
+    let all: Vec<Ray> = rays_camera.iter().chain(&bounce).chain(&shadow).copied().collect();
+    let before = traversal_answers(scene(&app), &all);
+    let s = app.resources.scene.as_mut().expect("a scene");
+    let Accel::Bvh(bvh) = &mut s.accel else { panic!("the BVH was asked for") };
+    change(bvh);
+    let after = traversal_answers(scene(&app), &all);
+    let differ = before.iter().zip(&after).filter(|(a, b)| a != b).count();
+    (before, differ)
+}
+
 /// The wide BVH tests a node's eight child boxes with one AVX operation per step where the CPU has AVX2, with
 /// two SSE operations elsewhere; both compute every lane with the same operations in the same order, so the
 /// traversal visits the same nodes and primitives in the same order and every answer is the same bit for bit.
 /// (On a CPU without AVX2 both sides are the SSE test.)
 #[test]
 fn the_bvhs_avx_and_sse_box_tests_give_the_same_traversal_bit_for_bit() {
-    let mut app = setup_ron(&bunny_scene_text(), AccelKind::Bvh);
-    let all = bunny_traversal_rays(&app);
-    let wide = traversal_answers(scene(&app), &all);
-    let s = app.resources.scene.as_mut().expect("a scene");
-    let Accel::Bvh(bvh) = &mut s.accel else { panic!("the BVH was asked for") };
-    eprintln!("AVX box test available: {}", bvh.uses_avx_boxes());
-    bvh.use_baseline_boxes();
-    let narrow = traversal_answers(scene(&app), &all);
-    let differ = wide.iter().zip(&narrow).filter(|(a, b)| a != b).count();
-    assert_eq!(differ, 0, "{differ} of {} rays traverse differently (hit, occlusion or nodes visited)", all.len());
-    assert!(wide.iter().filter(|a| a.0.is_some()).count() > all.len() / 4, "too few hits: the test would be weak");
+    let (wide, differ) = bvh_answers_before_and_after(|bvh| {
+        eprintln!("AVX box test available: {}", bvh.uses_avx_boxes());
+        bvh.use_baseline_boxes();
+    });
+    assert_eq!(differ, 0, "{differ} of {} rays traverse differently (hit, occlusion or nodes visited)", wide.len());
+    assert!(wide.iter().filter(|a| a.0.is_some()).count() > wide.len() / 4, "too few hits: the test would be weak");
 }
 
 /// A BVH query starts with a 32-entry traversal stack (zeroing one sized for the tree's depth costs a `memset` on
@@ -228,17 +234,10 @@ fn the_bvhs_avx_and_sse_box_tests_give_the_same_traversal_bit_for_bit() {
 /// first node it meets with a non-empty stack (so every ray that visits three nodes or more starts again).
 #[test]
 fn a_bvh_query_that_outgrows_its_first_stack_starts_again_with_the_same_answer() {
-    let mut app = setup_ron(&bunny_scene_text(), AccelKind::Bvh);
-    let all = bunny_traversal_rays(&app);
-    let normal = traversal_answers(scene(&app), &all);
-    let s = app.resources.scene.as_mut().expect("a scene");
-    let Accel::Bvh(bvh) = &mut s.accel else { panic!("the BVH was asked for") };
-    bvh.set_first_stack(8);
-    let restarted = traversal_answers(scene(&app), &all);
-    let differ = normal.iter().zip(&restarted).filter(|(a, b)| a != b).count();
-    assert_eq!(differ, 0, "{differ} of {} rays answer differently after a restart", all.len());
+    let (normal, differ) = bvh_answers_before_and_after(|bvh| bvh.set_first_stack(8));
+    assert_eq!(differ, 0, "{differ} of {} rays answer differently after a restart", normal.len());
     let deep = normal.iter().filter(|a| a.3.nodes >= 3).count();
-    assert!(deep > all.len() / 5, "only {deep} of {} rays visit 3 nodes or more: too few restarts", all.len());
+    assert!(deep > normal.len() / 5, "only {deep} of {} rays visit 3 nodes or more: too few restarts", normal.len());
 }
 
 /// An analytic primitive (a sphere here; also revolutions and patches) costs several triangle tests — divisions,
