@@ -7,8 +7,8 @@
 use crate::common::{app_from_file, app_from_ron, data};
 use glam::Vec3A;
 use prism::accel::ray_sets::{camera_rays, secondary_rays};
-use prism::accel::{Accel, KdTree, TraversalWork, UniformGrid, WideBvh};
-use prism::geometry::{NO_PRIM, Ray, WatertightRay};
+use prism::accel::{Accel, KdTree, TraversalWork, UniformGrid};
+use prism::geometry::{Ray, WatertightRay};
 use prism::primitives::Hit;
 use prism::sampling::{Rng, warp};
 use prism::scene::Scene;
@@ -29,7 +29,7 @@ pub fn accelerators() -> Vec<AccelKind> {
 
 /// The Stanford bunny (69k triangles) with analytic spheres (one an ellipsoid, one nested under a transformed
 /// parent), a triangle, and two unbounded planes.
-fn bunny_scene_text() -> String {
+pub fn bunny_scene_text() -> String {
     format!(
         r#"(camera: (),
         entities: [
@@ -96,7 +96,7 @@ pub fn rays(scene: &Scene, n: usize, seed: u64) -> Vec<Ray> {
 
 /// Same closest hit: both none, or t within 1e-5 relative and the same primitive unless it is a tie (the other
 /// primitive, tested alone, is hit at the same distance within 1e-6 relative).
-fn same_hit(scene: &Scene, ray: &Ray, a: Option<Hit>, b: Option<Hit>) -> bool {
+pub fn same_hit(scene: &Scene, ray: &Ray, a: Option<Hit>, b: Option<Hit>) -> bool {
     match (a, b) {
         (None, None) => true,
         (Some(a), Some(b)) => {
@@ -179,137 +179,6 @@ fn every_accelerator_matches_brute_force_on_the_stanford_bunny_with_spheres_elli
         let app = setup_ron(&text, kind);
         let hits = assert_matches_brute("bunny", scene(&app), truth, &rays);
         assert!(hits > 8_000, "too few rays hit anything ({hits}): the test would be weak");
-    }
-}
-
-/// One ray's traversal answers bit for bit: the closest hit counted and uncounted (primitive, `t`, barycentrics),
-/// occlusion, and the work counted.
-type Answer = (Option<(u32, u32, u32, u32)>, Option<(u32, u32, u32, u32)>, bool, TraversalWork);
-
-fn traversal_answers(s: &Scene, all: &[Ray]) -> Vec<Answer> {
-    let bits = |h: Hit| (h.prim, h.t.to_bits(), h.b1.to_bits(), h.b2.to_bits());
-    all.iter()
-        .map(|r| {
-            let mut work = TraversalWork::default();
-            let counted = s.accel.intersect_counted(&s.prims, r, &mut work).map(bits);
-            (counted, s.intersect(r).map(bits), s.occluded(r), work)
-        })
-        .collect()
-}
-
-/// The answers of the bunny scene's BVH for its camera, bounce and shadow rays as built, then after `change` (an
-/// implementation switch that must not change any of them): the answers before, and how many rays answer
-/// differently after.
-fn bvh_answers_before_and_after(change: impl FnOnce(&mut WideBvh)) -> (Vec<Answer>, usize) {
-    let mut app = setup_ron(&bunny_scene_text(), AccelKind::Bvh);
-    let rays_camera = rays(scene(&app), 4000, 3);
-    let (bounce, shadow) = secondary_rays(scene(&app), &rays_camera, 5);
-    let all: Vec<Ray> = rays_camera.iter().chain(&bounce).chain(&shadow).copied().collect();
-    let before = traversal_answers(scene(&app), &all);
-    let s = app.resources.scene.as_mut().expect("a scene");
-    let Accel::Bvh(bvh) = &mut s.accel else { panic!("the BVH was asked for") };
-    change(bvh);
-    let after = traversal_answers(scene(&app), &all);
-    let differ = before.iter().zip(&after).filter(|(a, b)| a != b).count();
-    (before, differ)
-}
-
-/// The wide BVH tests a node's eight child boxes with one AVX operation per step where the CPU has AVX2, with
-/// two SSE operations elsewhere; both compute every lane with the same operations in the same order, so the
-/// traversal visits the same nodes and primitives in the same order and every answer is the same bit for bit.
-/// (On a CPU without AVX2 both sides are the SSE test.)
-#[test]
-fn the_bvhs_avx_and_sse_box_tests_give_the_same_traversal_bit_for_bit() {
-    let (wide, differ) = bvh_answers_before_and_after(|bvh| {
-        eprintln!("AVX box test available: {}", bvh.uses_avx_boxes());
-        bvh.use_baseline_boxes();
-    });
-    assert_eq!(differ, 0, "{differ} of {} rays traverse differently (hit, occlusion or nodes visited)", wide.len());
-    assert!(wide.iter().filter(|a| a.0.is_some()).count() > wide.len() / 4, "too few hits: the test would be weak");
-}
-
-/// A BVH query starts with a 32-entry traversal stack (zeroing one sized for the tree's depth costs a `memset` on
-/// deep trees) and starts again with a full one when a node's children would overflow it: the answer, and the
-/// work counted, must not change. Forced here by a first stack of 8 entries, which every ray outgrows at the
-/// first node it meets with a non-empty stack (so every ray that visits three nodes or more starts again).
-#[test]
-fn a_bvh_query_that_outgrows_its_first_stack_starts_again_with_the_same_answer() {
-    let (normal, differ) = bvh_answers_before_and_after(|bvh| bvh.set_first_stack(8));
-    assert_eq!(differ, 0, "{differ} of {} rays answer differently after a restart", normal.len());
-    let deep = normal.iter().filter(|a| a.3.nodes >= 3).count();
-    assert!(deep > normal.len() / 5, "only {deep} of {} rays visit 3 nodes or more: too few restarts", normal.len());
-}
-
-/// An analytic primitive (a sphere here; also revolutions and patches) costs several triangle tests — divisions,
-/// square roots, Newton steps — while a node tests all eight child boxes in one operation. So where a node has
-/// room the wide BVH gives each analytic primitive a leaf of its own, and rays that do not come near it never test
-/// it. On the sphere Cornell box the BVH2 puts each sphere in a leaf with a wall (whose box every ray to that wall
-/// enters); after the collapse no leaf mixes a sphere with anything, and every answer still equals brute force.
-#[test]
-fn the_wide_bvh_gives_spheres_leaves_of_their_own_where_a_node_has_room() {
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/cornell_rough.ron");
-    let app = setup_file(&path, AccelKind::Bvh);
-    let s = scene(&app);
-    let Accel::Bvh(bvh) = &s.accel else { panic!("the BVH was asked for") };
-    let nt = s.prims.num_tris();
-    let leaves = bvh.leaf_primitives();
-    let mut seen: Vec<u32> = leaves.iter().flatten().copied().collect();
-    seen.sort_unstable();
-    assert_eq!(seen, (0..s.prims.num_bounded()).collect::<Vec<_>>(), "every primitive in exactly one leaf");
-    let spheres = (nt..s.prims.num_bounded()).count();
-    assert_eq!(spheres, 2, "the scene has two spheres");
-    for leaf in &leaves {
-        if leaf.iter().any(|&id| id >= nt) {
-            assert_eq!(leaf.len(), 1, "a sphere shares a leaf: {leaf:?} (leaves {leaves:?})");
-        }
-    }
-    let truth_app = setup_file(&path, AccelKind::Brute);
-    let all = rays(s, 4000, 11);
-    let hits = assert_matches_brute("cornell_rough bvh", s, scene(&truth_app), &all);
-    assert!(hits > 1000, "too few hits ({hits}): the test would be weak");
-}
-
-/// A ray spawned from a triangle cannot meet that triangle again (a plane), so `Ray::leaves` lets the BVH skip
-/// its test: with the hint or without, every accelerator's answer is the same, and equals brute force, for
-/// bounce and shadow rays spawned from hits on the bunny (triangles), spheres and an ellipsoid.
-#[test]
-fn skipping_the_triangle_a_ray_leaves_never_changes_the_answer() {
-    let truth_app = setup_ron(&bunny_scene_text(), AccelKind::Brute);
-    let truth = scene(&truth_app);
-    let mut rng = Rng::new(23, 0);
-    let mut spawned = vec![];
-    for r in rays(truth, 3000, 11) {
-        let Some(s) = truth.trace(&r) else { continue };
-        let n = if s.ng.dot(r.dir) < 0.0 { s.ng } else { -s.ng };
-        let mut d = warp::uniform_sphere(rng.next_2d());
-        if d.dot(n) < 0.0 {
-            d = -d;
-        }
-        spawned.push(s.spawn(d));
-        // Into the surface too (refraction-like), and a shadow ray to a random point.
-        spawned.push(s.spawn(-d));
-        let b = truth.prims.bounds;
-        let q = b.min + b.diagonal() * Vec3A::new(rng.next_f32(), rng.next_f32(), rng.next_f32());
-        let mut sh = s.spawn((q - s.p).normalize_or(Vec3A::X));
-        sh.tmax = (q - s.p).length();
-        spawned.push(sh);
-    }
-    assert!(spawned.iter().filter(|r| r.leaves != NO_PRIM).count() > 3000, "too few spawned rays");
-    let brute: Vec<Option<Hit>> = spawned.par_iter().map(|r| truth.intersect(&r.leaving(NO_PRIM))).collect();
-    for kind in accelerators() {
-        let app = setup_ron(&bunny_scene_text(), kind);
-        let sc = scene(&app);
-        spawned.par_iter().zip(&brute).enumerate().for_each(|(i, (r, &expected))| {
-            let plain = r.leaving(NO_PRIM);
-            let (a, b) = (sc.intersect(r), sc.intersect(&plain));
-            assert_eq!(
-                a.map(|h| (h.prim, h.t.to_bits())),
-                b.map(|h| (h.prim, h.t.to_bits())),
-                "{kind:?}: ray {i} {r:?}: the hint changed the closest hit"
-            );
-            assert_eq!(sc.occluded(r), sc.occluded(&plain), "{kind:?}: ray {i}: the hint changed occlusion");
-            assert!(same_hit(truth, r, a, expected), "{kind:?}: ray {i}: differs from brute force");
-        });
     }
 }
 

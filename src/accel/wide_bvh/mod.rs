@@ -5,7 +5,9 @@
 //! arrays (each box plane's eight values side by side), so one ray is tested against all eight boxes with one AVX
 //! operation per step where the CPU has AVX2, or against four with one SSE operation elsewhere (`boxes.rs`; the
 //! same traversal bit for bit either way), and leaves hold their triangles four to a [`TriPacket`] (the same
-//! conservative SIMD pre-filter and exact watertight test the kd-tree uses). With AVX2 the whole query is compiled
+//! conservative SIMD pre-filter and exact watertight test the kd-tree uses); a leaf whose triangles lie in a face of
+//! its box (walls, floors, a block's faces) keeps that slab, and a ray that starts beyond it moving away skips the
+//! leaf (`leaf.rs`: exact comparisons, so the same answers). With AVX2 the whole query is compiled
 //! for AVX2 and FMA through `pulp` (safe Rust; the features are detected at run time) — Rust never fuses a multiply
 //! and an add on its own, so the answers do not change with the target.
 //!
@@ -32,6 +34,9 @@ use pulp::{Simd, WithSimd};
 use std::time::Duration;
 
 mod boxes;
+mod leaf;
+
+use leaf::{LeafPacket, LeafRange, NO_SLAB, leaf_slab, moving_away};
 
 /// Child slot markers.
 const LEAF_BIT: u32 = 1 << 31;
@@ -51,22 +56,6 @@ struct Node {
     b: [[f32; WIDTH]; 6],
     /// Inner child: node index; leaf: `LEAF_BIT | leaf index`; `EMPTY`: no child.
     child: [u32; WIDTH],
-}
-
-/// A leaf's packets: `packets[first..first + count]`.
-#[derive(Clone, Copy, Debug)]
-struct LeafRange {
-    first: u32,
-    count: u32,
-}
-
-/// Up to four primitives of one leaf: triangles as a packet, other bounded shapes tested one by one.
-#[derive(Clone, Copy, Debug, Default)]
-struct LeafPacket {
-    tris: TriPacket,
-    ids: [u32; 4],
-    tri_lanes: u8,
-    other_lanes: u8,
 }
 
 /// A child of a node being collapsed: a BVH2 subtree, or the primitives of one leaf, with its box.
@@ -106,6 +95,8 @@ fn split_off_analytic(kids: &mut Vec<Kid>, num_tris: u32, aabbs: &[Aabb]) {
 pub struct WideBvh {
     nodes: Vec<Node>,
     leaves: Vec<LeafRange>,
+    /// Each leaf's slab `[lo, hi]` along its axis (unused where the axis is `NO_SLAB`).
+    slabs: Vec<[f32; 2]>,
     packets: Vec<LeafPacket>,
     /// The root: a node, or a lone leaf (`LEAF_BIT`), or `EMPTY`.
     root: u32,
@@ -124,6 +115,7 @@ impl WideBvh {
         let mut out = WideBvh {
             nodes: vec![],
             leaves: vec![],
+            slabs: vec![],
             packets: vec![],
             root: EMPTY,
             depth: 0,
@@ -157,10 +149,8 @@ impl WideBvh {
                 }
                 let what = if c & LEAF_BIT != 0 {
                     let l = self.leaves[(c & !LEAF_BIT) as usize];
-                    let n: u32 = self.packets[l.first as usize..(l.first + l.count) as usize]
-                        .iter()
-                        .map(|p| (p.tri_lanes | p.other_lanes).count_ones())
-                        .sum();
+                    let n: u32 =
+                        self.packets[l.packets()].iter().map(|p| (p.tri_lanes | p.other_lanes).count_ones()).sum();
                     format!("leaf {} ({n} prims)", c & !LEAF_BIT)
                 } else {
                     format!("node {c}")
@@ -195,9 +185,10 @@ impl WideBvh {
         Some(range(a).chain(range(b)).map(|i| bvh2.primitive_indices[i as usize]).collect())
     }
 
-    /// Pack primitives `ids` into a new leaf; returns the leaf's child slot.
-    fn add_leaf_ids(&mut self, ids: &[u32], prims: &Primitives) -> u32 {
+    /// Pack primitives `ids` into a new leaf; returns the leaf's child slot. `aabbs`: the primitives' padded boxes.
+    fn add_leaf_ids(&mut self, ids: &[u32], prims: &Primitives, aabbs: &[Aabb]) -> u32 {
         let nt = prims.num_tris();
+        let slab = leaf_slab(ids, prims, aabbs);
         let (mut ordered, others): (Vec<u32>, Vec<u32>) = ids.iter().partition(|&&id| id < nt);
         ordered.extend(others);
         let first = self.packets.len() as u32;
@@ -217,7 +208,9 @@ impl WideBvh {
             p.tris = TriPacket::new(&verts);
             self.packets.push(p);
         }
-        self.leaves.push(LeafRange { first, count: self.packets.len() as u32 - first });
+        let (axis, lo, hi) = slab;
+        self.leaves.push(LeafRange::new(first, self.packets.len() as u32 - first, axis));
+        self.slabs.push([lo, hi]);
         LEAF_BIT | (self.leaves.len() as u32 - 1)
     }
 
@@ -236,7 +229,7 @@ impl WideBvh {
     fn collapse(&mut self, bvh2: &Bvh2, node: usize, prims: &Primitives, aabbs: &[Aabb], depth: usize) -> u32 {
         self.depth = self.depth.max(depth);
         if let Some(ids) = Self::leaf_ids(bvh2, node) {
-            return self.add_leaf_ids(&ids, prims);
+            return self.add_leaf_ids(&ids, prims, aabbs);
         }
         let nd = &bvh2.nodes[node];
         // Open the inner child of largest surface area until there are WIDTH children.
@@ -284,7 +277,7 @@ impl WideBvh {
                 Kid::Subtree(k, _) => self.collapse(bvh2, *k, prims, aabbs, depth + 1),
                 Kid::Leaf(ids, _) => {
                     self.depth = self.depth.max(depth + 1);
-                    self.add_leaf_ids(ids, prims)
+                    self.add_leaf_ids(ids, prims, aabbs)
                 }
             };
             self.nodes[me].child[lane] = slot;
@@ -306,7 +299,10 @@ impl WideBvh {
         counter: &mut C,
     ) -> bool {
         let l = self.leaves[leaf as usize];
-        for p in &self.packets[l.first as usize..(l.first + l.count) as usize] {
+        if l.axis() != NO_SLAB && moving_away(ray, l.axis(), self.slabs[leaf as usize]) {
+            return false;
+        }
+        for p in &self.packets[l.packets()] {
             for _ in 0..(p.tri_lanes | p.other_lanes).count_ones() {
                 counter.prim();
             }
@@ -490,13 +486,21 @@ impl WideBvh {
         self.avx = None;
     }
 
+    /// Test every leaf's primitives even where the ray moves away from the leaf's slab (for tests: the answers
+    /// must not change, only the work).
+    pub fn disable_leaf_slabs(&mut self) {
+        for l in &mut self.leaves {
+            *l = LeafRange::new(l.first, l.count(), NO_SLAB);
+        }
+    }
+
     /// The primitives of each leaf, in leaf order (for tests and tools).
     pub fn leaf_primitives(&self) -> Vec<Vec<u32>> {
         self.leaves
             .iter()
             .map(|l| {
                 let mut ids = vec![];
-                for p in &self.packets[l.first as usize..(l.first + l.count) as usize] {
+                for p in &self.packets[l.packets()] {
                     let used = p.tri_lanes | p.other_lanes;
                     ids.extend((0..4).filter(|&k| used & (1 << k) != 0).map(|k| p.ids[k]));
                 }
@@ -547,6 +551,7 @@ impl Accelerator for WideBvh {
             build_time: self.build_time,
             memory_bytes: self.nodes.len() * std::mem::size_of::<Node>()
                 + self.leaves.len() * std::mem::size_of::<LeafRange>()
+                + self.slabs.len() * std::mem::size_of::<[f32; 2]>()
                 + self.packets.len() * std::mem::size_of::<LeafPacket>(),
             nodes: self.nodes.len(),
             detail: format!(
