@@ -30,6 +30,19 @@ fn traversal_answers(s: &Scene, all: &[Ray]) -> Vec<Answer> {
         .collect()
 }
 
+/// The answers of `app`'s BVH for `all` rays as built, then after `change` (a switch of how it traverses).
+fn answers_before_and_after(
+    app: &mut prism::App,
+    all: &[Ray],
+    change: impl FnOnce(&mut WideBvh),
+) -> (Vec<Answer>, Vec<Answer>) {
+    let before = traversal_answers(scene(app), all);
+    let s = app.resources.scene.as_mut().expect("a scene");
+    let Accel::Bvh(bvh) = &mut s.accel else { panic!("the BVH was asked for") };
+    change(bvh);
+    (before, traversal_answers(scene(app), all))
+}
+
 /// The answers of the bunny scene's BVH for its camera, bounce and shadow rays as built, then after `change` (an
 /// implementation switch that must not change any of them): the answers before, and how many rays answer
 /// differently after.
@@ -38,11 +51,7 @@ fn bvh_answers_before_and_after(change: impl FnOnce(&mut WideBvh)) -> (Vec<Answe
     let rays_camera = rays(scene(&app), 4000, 3);
     let (bounce, shadow) = secondary_rays(scene(&app), &rays_camera, 5);
     let all: Vec<Ray> = rays_camera.iter().chain(&bounce).chain(&shadow).copied().collect();
-    let before = traversal_answers(scene(&app), &all);
-    let s = app.resources.scene.as_mut().expect("a scene");
-    let Accel::Bvh(bvh) = &mut s.accel else { panic!("the BVH was asked for") };
-    change(bvh);
-    let after = traversal_answers(scene(&app), &all);
+    let (before, after) = answers_before_and_after(&mut app, &all, change);
     let differ = before.iter().zip(&after).filter(|(a, b)| a != b).count();
     (before, differ)
 }
@@ -168,11 +177,7 @@ fn rays_moving_away_from_a_leafs_slab_skip_it_without_changing_any_answer() {
         let mut all: Vec<Ray> = spawned.iter().flat_map(|r| [*r, r.leaving(NO_PRIM)]).collect();
         all.extend(rays(truth, 2000, 5));
         let mut app = setup_file(&path, AccelKind::Bvh);
-        let with_slabs = traversal_answers(scene(&app), &all);
-        let s = app.resources.scene.as_mut().expect("a scene");
-        let Accel::Bvh(bvh) = &mut s.accel else { panic!("the BVH was asked for") };
-        bvh.disable_leaf_slabs();
-        let without = traversal_answers(scene(&app), &all);
+        let (with_slabs, without) = answers_before_and_after(&mut app, &all, WideBvh::disable_leaf_slabs);
         for (i, (a, b)) in with_slabs.iter().zip(&without).enumerate() {
             assert_eq!(
                 (a.0, a.1, a.2),
