@@ -39,7 +39,7 @@ pub use tri_box::triangle_overlaps_box;
 pub use wide_bvh::WideBvh;
 pub use work::{NoCount, TraversalWork, WorkCounter};
 
-use crate::error::Result;
+use crate::error::{PrismError, Result};
 use crate::geometry::Ray;
 use crate::primitives::{Hit, Primitives};
 use crate::settings::AccelKind;
@@ -88,9 +88,17 @@ macro_rules! dispatch {
 }
 
 impl Accel {
-    /// Build the accelerator of the given kind over `prims`. Fails only on bad grid resolutions.
+    /// Build the accelerator of the given kind over `prims`. Fails only on bad grid resolutions and on more
+    /// primitives than the wide BVH's leaf encoding holds (`2^28`).
     pub fn build(kind: AccelKind, prims: &Primitives) -> Result<Accel> {
         let start = Instant::now();
+        if kind == AccelKind::Bvh && prims.num_bounded() as usize >= wide_bvh::MAX_PRIMITIVES {
+            return Err(PrismError::invalid(format!(
+                "{} primitives: the bvh accelerator holds fewer than {}; choose another with --accel",
+                prims.num_bounded(),
+                wide_bvh::MAX_PRIMITIVES
+            )));
+        }
         let mut accel = match kind {
             AccelKind::Bvh => Accel::Bvh(WideBvh::build(prims)),
             AccelKind::CwBvh => Accel::CwBvh(BvhAccel::build(prims)),

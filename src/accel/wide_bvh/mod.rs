@@ -7,9 +7,10 @@
 //! same traversal bit for bit either way), and leaves hold their triangles four to a [`TriPacket`] (the same
 //! conservative SIMD pre-filter and exact watertight test the kd-tree uses); a leaf whose triangles lie in a face of
 //! its box (walls, floors, a block's faces) keeps that slab, and a ray that starts beyond it moving away skips the
-//! leaf (`leaf.rs`: exact comparisons, so the same answers). With AVX2 the whole query is compiled
-//! for AVX2 and FMA through `pulp` (safe Rust; the features are detected at run time) — Rust never fuses a multiply
-//! and an add on its own, so the answers do not change with the target.
+//! leaf (`leaf.rs`: exact comparisons, so the same answers). A leaf's slot in its parent holds its packet range and
+//! slab axis itself, so a leaf costs no load before its packets (and a leaf skipped by its slab none of them). With
+//! AVX2 the whole query is compiled for AVX2 and FMA through `pulp` (safe Rust; the features are detected at run
+//! time) — Rust never fuses a multiply and an add on its own, so the answers do not change with the target.
 //!
 //! Why not obvhs's own CWBVH traversal (still available as `--accel cwbvh`, `bvh.rs`): its 8-wide nodes are
 //! quantised for GPU memory bandwidth (Ylitie et al. 2017), so every node visit first decompresses eight boxes; on
@@ -36,7 +37,8 @@ use std::time::Duration;
 mod boxes;
 mod leaf;
 
-use leaf::{LeafPacket, LeafRange, NO_SLAB, leaf_slab, moving_away};
+pub(crate) use leaf::MAX_PRIMITIVES;
+use leaf::{LeafPacket, NO_SLAB, leaf_axis, leaf_packets, leaf_slab, leaf_word, moving_away, without_slab};
 
 /// Child slot markers.
 const LEAF_BIT: u32 = 1 << 31;
@@ -94,8 +96,11 @@ fn split_off_analytic(kids: &mut Vec<Kid>, num_tris: u32, aabbs: &[Aabb]) {
 
 pub struct WideBvh {
     nodes: Vec<Node>,
-    leaves: Vec<LeafRange>,
-    /// Each leaf's slab `[lo, hi]` along its axis (unused where the axis is `NO_SLAB`).
+    /// Each leaf's child word (without `LEAF_BIT`), in the order they were made (for tools and statistics: the
+    /// traversal reads a leaf's packets from its parent's slot).
+    leaves: Vec<u32>,
+    /// A leaf's slab `[lo, hi]` along its axis at the index of its first packet (unused where the axis is
+    /// `NO_SLAB`, and at the other packets).
     slabs: Vec<[f32; 2]>,
     packets: Vec<LeafPacket>,
     /// The root: a node, or a lone leaf (`LEAF_BIT`), or `EMPTY`.
@@ -148,10 +153,10 @@ impl WideBvh {
                     continue;
                 }
                 let what = if c & LEAF_BIT != 0 {
-                    let l = self.leaves[(c & !LEAF_BIT) as usize];
+                    let packets = leaf_packets(c & !LEAF_BIT);
                     let n: u32 =
-                        self.packets[l.packets()].iter().map(|p| (p.tri_lanes | p.other_lanes).count_ones()).sum();
-                    format!("leaf {} ({n} prims)", c & !LEAF_BIT)
+                        self.packets[packets.clone()].iter().map(|p| (p.tri_lanes | p.other_lanes).count_ones()).sum();
+                    format!("leaf of packets {packets:?} ({n} prims)")
                 } else {
                     format!("node {c}")
                 };
@@ -188,7 +193,7 @@ impl WideBvh {
     /// Pack primitives `ids` into a new leaf; returns the leaf's child slot. `aabbs`: the primitives' padded boxes.
     fn add_leaf_ids(&mut self, ids: &[u32], prims: &Primitives, aabbs: &[Aabb]) -> u32 {
         let nt = prims.num_tris();
-        let slab = leaf_slab(ids, prims, aabbs);
+        let (axis, lo, hi) = leaf_slab(ids, prims, aabbs);
         let (mut ordered, others): (Vec<u32>, Vec<u32>) = ids.iter().partition(|&&id| id < nt);
         ordered.extend(others);
         let first = self.packets.len() as u32;
@@ -208,10 +213,11 @@ impl WideBvh {
             p.tris = TriPacket::new(&verts);
             self.packets.push(p);
         }
-        let (axis, lo, hi) = slab;
-        self.leaves.push(LeafRange::new(first, self.packets.len() as u32 - first, axis));
-        self.slabs.push([lo, hi]);
-        LEAF_BIT | (self.leaves.len() as u32 - 1)
+        self.slabs.resize(self.packets.len(), [0.0; 2]);
+        self.slabs[first as usize] = [lo, hi];
+        let word = leaf_word(first as usize, self.packets.len() - first as usize, axis);
+        self.leaves.push(word);
+        LEAF_BIT | word
     }
 
     /// The primitives of BVH2 node `k` if it becomes one leaf (a BVH2 leaf, or two leaves merged).
@@ -285,7 +291,7 @@ impl WideBvh {
         me as u32
     }
 
-    /// Test leaf `leaf`; returns true when `ANY` and something was hit.
+    /// Test the leaf of child word `leaf` (without `LEAF_BIT`); returns true when `ANY` and something was hit.
     #[inline(always)]
     #[allow(clippy::too_many_arguments)]
     fn test_leaf<const ANY: bool, C: WorkCounter>(
@@ -298,11 +304,12 @@ impl WideBvh {
         best: &mut Option<Hit>,
         counter: &mut C,
     ) -> bool {
-        let l = self.leaves[leaf as usize];
-        if l.axis() != NO_SLAB && moving_away(ray, l.axis(), self.slabs[leaf as usize]) {
+        let packets = leaf_packets(leaf);
+        let axis = leaf_axis(leaf);
+        if axis != NO_SLAB && moving_away(ray, axis, self.slabs[packets.start]) {
             return false;
         }
-        for p in &self.packets[l.packets()] {
+        for p in &self.packets[packets] {
             for _ in 0..(p.tri_lanes | p.other_lanes).count_ones() {
                 counter.prim();
             }
@@ -490,7 +497,17 @@ impl WideBvh {
     /// must not change, only the work).
     pub fn disable_leaf_slabs(&mut self) {
         for l in &mut self.leaves {
-            *l = LeafRange::new(l.first, l.count(), NO_SLAB);
+            *l = without_slab(*l);
+        }
+        for n in &mut self.nodes {
+            for c in &mut n.child {
+                if *c != EMPTY && *c & LEAF_BIT != 0 {
+                    *c = LEAF_BIT | without_slab(*c & !LEAF_BIT);
+                }
+            }
+        }
+        if self.root != EMPTY && self.root & LEAF_BIT != 0 {
+            self.root = LEAF_BIT | without_slab(self.root & !LEAF_BIT);
         }
     }
 
@@ -500,7 +517,7 @@ impl WideBvh {
             .iter()
             .map(|l| {
                 let mut ids = vec![];
-                for p in &self.packets[l.packets()] {
+                for p in &self.packets[leaf_packets(*l)] {
                     let used = p.tri_lanes | p.other_lanes;
                     ids.extend((0..4).filter(|&k| used & (1 << k) != 0).map(|k| p.ids[k]));
                 }
@@ -550,7 +567,7 @@ impl Accelerator for WideBvh {
             kind: "bvh",
             build_time: self.build_time,
             memory_bytes: self.nodes.len() * std::mem::size_of::<Node>()
-                + self.leaves.len() * std::mem::size_of::<LeafRange>()
+                + self.leaves.len() * std::mem::size_of::<u32>()
                 + self.slabs.len() * std::mem::size_of::<[f32; 2]>()
                 + self.packets.len() * std::mem::size_of::<LeafPacket>(),
             nodes: self.nodes.len(),
