@@ -8,6 +8,7 @@ mod accel_cli;
 mod adaptive;
 mod analytic;
 mod appearance;
+mod bvh_build;
 mod bvh_traversal;
 mod converge;
 mod curve_stability;

@@ -43,9 +43,14 @@ impl BvhAccel {
         let aabbs = padded_prim_aabbs(prims);
         let bvh = if aabbs.is_empty() {
             CwBvh::default()
-        } else if super::bvh_fallback::needs_fallback(&aabbs) {
+        } else if super::bvh_topdown::needs_fallback(&aabbs) {
             // Many primitives in one Morton cell make PLOC quadratic and its tree a chain: build top-down instead.
-            obvhs::cwbvh::bvh2_to_cwbvh::bvh2_to_cwbvh(&super::bvh_fallback::build_bvh2(&aabbs), 3, true, false)
+            obvhs::cwbvh::bvh2_to_cwbvh::bvh2_to_cwbvh(
+                &super::bvh_topdown::build_bvh2(&aabbs, super::bvh_topdown::Binning::FALLBACK),
+                3,
+                true,
+                false,
+            )
         } else {
             obvhs::cwbvh::builder::build_cwbvh(&aabbs, BvhBuildParams::medium_build(), &mut Duration::default())
         };

@@ -18,7 +18,7 @@
 pub mod bench;
 mod brute;
 mod bvh;
-mod bvh_fallback;
+mod bvh_topdown;
 mod clip;
 pub mod grid;
 pub mod kdtree;
@@ -36,7 +36,7 @@ pub use bvh::BvhAccel;
 pub use grid::{CellHit, GridCell, UniformGrid};
 pub use kdtree::{KdParams, KdTree};
 pub use tri_box::triangle_overlaps_box;
-pub use wide_bvh::WideBvh;
+pub use wide_bvh::{Candidate as BvhCandidate, WideBvh};
 pub use work::{NoCount, TraversalWork, WorkCounter};
 
 use crate::error::{PrismError, Result};

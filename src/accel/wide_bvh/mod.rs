@@ -1,5 +1,5 @@
 //! The default BVH (`--accel bvh`), an 8-wide BVH for CPU single-ray traversal: built by obvhs (PLOC with
-//! reinsertion, leaves of up to eight primitives; the top-down build of `bvh_fallback.rs` when many primitives share
+//! reinsertion, leaves of up to eight primitives; the top-down build of `bvh_topdown.rs` when many primitives share
 //! a Morton cell), then collapsed into nodes of eight children (a node with slots to spare gives each analytic
 //! primitive that shares a leaf a leaf of its own: `split_off_analytic`) whose boxes are stored as structure of
 //! arrays (each box plane's eight values side by side), so one ray is tested against all eight boxes with one AVX
@@ -28,17 +28,20 @@ use super::{AccelStats, Accelerator};
 use crate::geometry::{Ray, TriPacket, WatertightRay};
 use crate::primitives::{Hit, Primitives};
 use boxes::{BoxTest, RayBoxes, RayBoxes8};
+pub use build::Candidate;
 use glam::Vec3A;
-use obvhs::{BvhBuildParams, aabb::Aabb, bvh2::Bvh2};
+use obvhs::{aabb::Aabb, bvh2::Bvh2};
 use pulp::x86::V3;
 use pulp::{Simd, WithSimd};
 use std::time::Duration;
 
 mod boxes;
+mod build;
 mod leaf;
 
 pub(crate) use leaf::MAX_PRIMITIVES;
-use leaf::{LeafPacket, NO_SLAB, leaf_axis, leaf_packets, leaf_slab, leaf_word, moving_away, without_slab};
+use leaf::leaf_packets;
+use leaf::{LeafPacket, NO_SLAB, leaf_axis, leaf_slab, leaf_word, moving_away, without_slab};
 
 /// Child slot markers.
 const LEAF_BIT: u32 = 1 << 31;
@@ -115,9 +118,20 @@ pub struct WideBvh {
 }
 
 impl WideBvh {
+    /// The wide BVH over `prims`: of the two candidate trees (PLOC's and a binned-SAH top-down build), the one
+    /// cheaper to traverse by the surface-area cost (`build.rs`); the top-down build alone for degenerate input.
     pub fn build(prims: &Primitives) -> Self {
-        let aabbs = super::bvh::padded_prim_aabbs(prims);
-        let mut out = WideBvh {
+        build::build(prims, None)
+    }
+
+    /// The tree of one candidate build (for tests and comparisons; `build` picks the cheaper).
+    pub fn build_candidate(prims: &Primitives, candidate: Candidate) -> Self {
+        build::build(prims, Some(candidate))
+    }
+
+    /// An empty tree.
+    fn empty() -> Self {
+        WideBvh {
             nodes: vec![],
             leaves: vec![],
             slabs: vec![],
@@ -127,18 +141,13 @@ impl WideBvh {
             avx: V3::try_new(),
             first_stack: 32,
             build_time: Duration::ZERO,
-        };
-        if aabbs.is_empty() {
-            return out;
         }
-        let bvh2 = if super::bvh_fallback::needs_fallback(&aabbs) {
-            // Many primitives in one Morton cell make PLOC quadratic and its tree a chain: build top-down instead.
-            super::bvh_fallback::build_bvh2(&aabbs)
-        } else {
-            let params = BvhBuildParams { max_prims_per_leaf: 8, ..BvhBuildParams::medium_build() };
-            obvhs::bvh2::builder::build_bvh2(&aabbs, params, &mut Duration::default())
-        };
-        out.root = out.collapse(&bvh2, 0, prims, &aabbs, 1);
+    }
+
+    /// The wide tree of `bvh2`, built over `aabbs` (the primitives' padded boxes).
+    fn from_bvh2(prims: &Primitives, aabbs: &[Aabb], bvh2: &Bvh2) -> Self {
+        let mut out = Self::empty();
+        out.root = out.collapse(bvh2, 0, prims, aabbs, 1);
         out
     }
 
