@@ -7,7 +7,7 @@
 //!
 //! | accelerator | file | build |
 //! |---|---|---|
-//! | BVH (the default; 8-wide, SoA boxes tested 8 at a time with AVX2, packet leaves) | `wide_bvh/` | obvhs PLOC, parallel; top-down for clustered input |
+//! | BVH (the default; 8-wide, SoA boxes tested 8 at a time with AVX2, packet leaves) | `wide_bvh/` | the cheaper of obvhs PLOC and top-down binned SAH; top-down for clustered input |
 //! | obvhs CWBVH (`cwbvh`) | `bvh.rs` | obvhs PLOC, parallel |
 //! | SAH kd-tree | `kdtree.rs`, `kdtree_build.rs` | Wald & Havran O(N log N), perfect splits |
 //! | uniform grid | `grid/` | per-cell triangle/box overlap, nested grids for crowded cells |

@@ -1,6 +1,6 @@
-//! The default BVH (`--accel bvh`), an 8-wide BVH for CPU single-ray traversal: built by obvhs (PLOC with
-//! reinsertion, leaves of up to eight primitives; the top-down build of `bvh_topdown.rs` when many primitives share
-//! a Morton cell), then collapsed into nodes of eight children (a node with slots to spare gives each analytic
+//! The default BVH (`--accel bvh`), an 8-wide BVH for CPU single-ray traversal: a BVH2 with leaves of up to eight
+//! primitives — the cheaper by surface-area cost of obvhs's PLOC tree and a top-down binned-SAH tree (`build.rs`;
+//! the top-down build of `bvh_topdown.rs` alone when many primitives share a Morton cell) — collapsed into nodes of eight children (a node with slots to spare gives each analytic
 //! primitive that shares a leaf a leaf of its own: `split_off_analytic`) whose boxes are stored as structure of
 //! arrays (each box plane's eight values side by side), so one ray is tested against all eight boxes with one AVX
 //! operation per step where the CPU has AVX2, or against four with one SSE operation elsewhere (`boxes.rs`; the
