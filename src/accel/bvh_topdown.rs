@@ -118,11 +118,11 @@ fn split(ids: &mut [u32], centre: &[glam::Vec3A], aabbs: &[Aabb], depth: usize, 
         let (lo, extent) = (cb.min[axis], cb.max[axis] - cb.min[axis]);
         (((centre[i as usize][axis] - lo) / extent * nb as f32) as usize).min(nb - 1)
     };
-    let axes = if binning.all_axes { [0, 1, 2] } else { [longest; 3] };
+    let axes: &[usize] = if binning.all_axes { &[0, 1, 2] } else { std::slice::from_ref(&longest) };
     let (mut best, mut best_cost) = (None, f32::INFINITY);
-    for (n, &axis) in axes.iter().enumerate() {
+    for &axis in axes {
         let extent = cb.max[axis] - cb.min[axis];
-        if !(extent > 0.0 && extent.is_finite()) || (!binning.all_axes && n > 0) {
+        if !(extent > 0.0 && extent.is_finite()) {
             continue;
         }
         let mut bins = [(Aabb::empty(), 0usize); MAX_BINS];
