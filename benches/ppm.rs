@@ -46,6 +46,7 @@ fn photon_pass<'a>(s: &'a Setup, iteration: u64) -> PhotonPass<'a> {
         photons: 65536,
         max_vertices: 255,
         first_deposit: 1,
+        store_on_glossy: false,
     }
 }
 
@@ -58,6 +59,7 @@ fn eye_pass(s: &Setup) -> EyePass<'_> {
         max_segments: 256,
         direct_lighting: true,
         pixel_centre: false,
+        trace_glossy: true,
     }
 }
 

@@ -287,7 +287,8 @@ def parse_args():
                          "\"adaptive=--integrator 'envlight(max_depth: {max_depth})' --adaptive\"; ARGS is split as "
                          "a shell would)")
     ap.add_argument("--ppm", action="store_true",
-                    help="also Prism's `ppm` on cornell_caustic (--integrator \"ppm(max_depth: 12)\")")
+                    help="also Prism's `ppm` on the caustic and rough boxes, cornell_caustic and cornell_rough "
+                         "(--integrator \"ppm(max_depth: D)\" with the reference's max_depth)")
     ap.add_argument("--cost-by-depth", metavar="D1,D2,...", default="",
                     help="instead of the equal-error comparison: time both renderers' path tracers (Mitsuba with "
                          "ldsampler) with each max_depth at the first --spp, interleaved, and print the cost per "
@@ -353,7 +354,7 @@ def measure(a):
         mts = Mitsuba(name, a.threads)
         versions.add(mts.version)
         configs = [(lb, shlex.split(args.replace("{max_depth}", str(max_depth)))) for lb, args in a.configs]
-        if a.ppm and name == "cornell_caustic":
+        if a.ppm and name in ("cornell_caustic", "cornell_rough"):
             configs.append(("ppm", ["--integrator", f"ppm(max_depth: {max_depth})"]))
         peers = [(f"mitsuba-{s}", s) for s in ("ldsampler", "independent")]
         ld_spp = [s for s in a.spp if is_ld(s)]

@@ -46,7 +46,7 @@ mod visible;
 pub use gather::PixelStats;
 pub use hash_grid::PhotonHashGrid;
 pub use kd_tree::PhotonKdTree;
-pub use params::{MAX_PHOTONS, PhotonLookup, PpmMode, PpmParams};
+pub use params::{GlossyEye, MAX_PHOTONS, PhotonLookup, PpmMode, PpmParams};
 pub use visible::{EyePass, EyeResult, VisiblePoint};
 
 use crate::app::{App, Plugin};
@@ -165,6 +165,7 @@ impl Ppm {
             photons: self.photons_per_iteration,
             max_vertices: self.params.segments().saturating_sub(1),
             first_deposit: if fixed { 0 } else { 1 },
+            store_on_glossy: !self.params.traces_glossy(),
         };
         if !pass.trace(&mut self.chunks, cancel) {
             return false;
@@ -188,6 +189,7 @@ impl Ppm {
                 max_segments: self.params.segments(),
                 direct_lighting: !fixed,
                 pixel_centre: fixed,
+                trace_glossy: self.params.traces_glossy(),
             };
             let (eye_rows, grid, kd, chunks) = (&mut self.eye, &mut self.grid, &mut self.kd, &self.chunks);
             // True when the lookup was built here (the hash grid needs a previous iteration's cell size).

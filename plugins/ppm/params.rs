@@ -26,6 +26,20 @@ pub enum PhotonLookup {
     Kdtree,
 }
 
+/// What the eye pass does at a glossy surface (smooth lobes, none diffuse: rough metal and glass).
+#[derive(Deserialize, Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[serde(rename_all = "lowercase")]
+pub enum GlossyEye {
+    /// Trace on through it as a path tracer would (next-event estimation and BSDF sampling weighted by multiple
+    /// importance sampling), and put the visible point on the next diffuse surface: a reflection in rough metal or
+    /// glass stays as sharp as the BSDF makes it, and photons are not stored on glossy surfaces.
+    #[default]
+    Trace,
+    /// Put the visible point on the glossy surface itself (the seed's behaviour): photons gathered over the radius
+    /// blur what the surface reflects until the radius has shrunk.
+    Gather,
+}
+
 /// Most photons per iteration accepted (each stored photon takes 64 bytes; a few are stored per emitted photon).
 pub const MAX_PHOTONS: u64 = 1 << 24;
 
@@ -46,6 +60,8 @@ pub struct PpmParams {
     pub max_depth: i32,
     pub mode: PpmMode,
     pub lookup: PhotonLookup,
+    /// Glossy surfaces in the eye pass (stochastic mode; fixed mode always gathers on the first smooth surface).
+    pub glossy: GlossyEye,
 }
 
 impl Default for PpmParams {
@@ -58,6 +74,7 @@ impl Default for PpmParams {
             max_depth: -1,
             mode: PpmMode::Stochastic,
             lookup: PhotonLookup::HashGrid,
+            glossy: GlossyEye::Trace,
         }
     }
 }
@@ -70,6 +87,11 @@ impl PpmParams {
     /// Most path segments, with the unlimited case capped.
     pub fn segments(&self) -> u32 {
         if self.max_depth < 0 { DEPTH_CAP } else { (self.max_depth as u32).min(DEPTH_CAP) }
+    }
+
+    /// Whether eye paths trace on through glossy surfaces (stochastic mode with `glossy: trace`).
+    pub fn traces_glossy(&self) -> bool {
+        self.mode == PpmMode::Stochastic && self.glossy == GlossyEye::Trace
     }
 
     /// Check every parameter; the error names it.

@@ -47,6 +47,9 @@ pub struct PhotonPass<'a> {
     /// Most vertices a photon path follows.
     pub max_vertices: u32,
     pub first_deposit: u32,
+    /// Store photons on glossy surfaces (smooth lobes, none diffuse) too; not when the eye pass traces through
+    /// them and so never gathers there.
+    pub store_on_glossy: bool,
 }
 
 impl PhotonPass<'_> {
@@ -86,7 +89,7 @@ impl PhotonPass<'_> {
             let Some(s) = scene.trace(&ray) else { break };
             let wo = -ray.dir;
             let Some(bsdf) = scene.bsdf(&s, wo) else { break };
-            if depth >= self.first_deposit && bsdf.has_smooth() {
+            if depth >= self.first_deposit && bsdf.has_smooth() && (self.store_on_glossy || bsdf.has_diffuse()) {
                 let ng = if s.ng.dot(wo) >= 0.0 { s.ng } else { -s.ng };
                 out.push(Photon { p: s.p, wi: wo, ng, beta, depth });
             }

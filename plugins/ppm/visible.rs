@@ -5,6 +5,14 @@
 //! choice: the visible point takes the smooth part with weight `1 / P(smooth)`, the chain continues through the
 //! delta lobe otherwise, so nothing is lost. Emission seen along the chain (lights, the environment on escape) is
 //! added to the pixel; in stochastic mode the visible point also receives next-event estimation of direct light.
+//!
+//! Glossy surfaces (smooth lobes, none diffuse: rough metal and glass) are traced through by default
+//! (`glossy: trace`, pbrt-v4's rule): the vertex gets next-event estimation weighted by multiple importance
+//! sampling (power heuristic) against the BSDF sample that continues the path, whose emission found at the next
+//! vertex takes the complementary weight, as in `envlight`; Russian roulette (`envlight`'s rule) from the
+//! `RR_VERTICES`th eye vertex on ends long glossy chains. The visible point then lies on the next diffuse surface,
+//! so what a rough surface reflects is as sharp as its BSDF, not blurred over the gather radius. With `glossy:
+//! gather` (and in fixed mode) the visible point lies on the glossy surface itself.
 
 use crate::bsdf::Bsdf;
 use crate::lights::LightSampler;
@@ -46,6 +54,25 @@ pub struct EyePass<'a> {
     pub direct_lighting: bool,
     /// Trace the pixel centre (fixed mode's single eye pass) instead of a filtered, jittered position.
     pub pixel_centre: bool,
+    /// Trace on through glossy surfaces instead of putting the visible point on them (see the module doc).
+    pub trace_glossy: bool,
+}
+
+/// The eye vertex from which Russian roulette may end a path traced through glossy surfaces.
+const RR_VERTICES: u32 = 5;
+
+/// A glossy vertex the eye path was traced through: the MIS weight of emission its BSDF sample finds.
+#[derive(Clone, Copy)]
+struct GlossyVertex {
+    p: Vec3A,
+    n: Vec3A,
+    pdf: f32,
+}
+
+#[inline]
+fn power_heuristic(a: f32, b: f32) -> f32 {
+    let (a2, b2) = (a * a, b * b);
+    if a2 + b2 == 0.0 { 0.0 } else { a2 / (a2 + b2) }
 }
 
 impl EyePass<'_> {
@@ -64,17 +91,60 @@ impl EyePass<'_> {
         let mut out = EyeResult::default();
         let mut beta = Vec3::ONE;
         let mut length = 0.0;
+        // The last vertex if it was glossy and traced through (emission found next is weighted against its NEE).
+        let mut glossy: Option<GlossyVertex> = None;
+        // Product of eta^2 over the refractions so far (Russian roulette undoes the radiance scaling).
+        let mut eta2 = 1.0f32;
         for depth in 0..self.max_segments {
             let Some(hit) = scene.trace(&ray) else {
-                out.direct += beta * scene.escaped(ray.dir);
+                let w = match (&glossy, &scene.lights.environment) {
+                    (Some(g), Some(_)) => power_heuristic(g.pdf, self.lights.pdf_li_env(&scene.lights, g.n, ray.dir)),
+                    _ => 1.0,
+                };
+                out.direct += beta * scene.escaped(ray.dir) * w;
                 break;
             };
             length += hit.t;
             let wo = -ray.dir;
-            out.direct += beta * scene.emitted(&hit, wo);
+            let le = scene.emitted(&hit, wo);
+            if le != Vec3::ZERO {
+                let w = match &glossy {
+                    Some(g) => power_heuristic(
+                        g.pdf,
+                        self.lights.pdf_li_area(&scene.lights, &scene.prims, hit.light as usize, g.p, &hit),
+                    ),
+                    None => 1.0,
+                };
+                out.direct += beta * le * w;
+            }
             let Some(bsdf) = scene.bsdf(&hit, wo) else { break };
             let (u_lobe, u_bsdf) = (sampler.next_1d(), sampler.next_2d());
             let (u_choice, u_light) = (sampler.next_1d(), sampler.next_2d());
+            if self.trace_glossy && bsdf.has_smooth() && !bsdf.has_diffuse() {
+                // Path-trace the glossy vertex: NEE and the BSDF sample, weighted by MIS. Its direct light and
+                // the emission found next take one segment more.
+                if depth + 2 > self.max_segments {
+                    break;
+                }
+                out.direct += beta * self.direct_mis(&hit, &bsdf, u_choice, u_light);
+                let Some(bs) = bsdf.sample(u_lobe, u_bsdf) else { break };
+                beta *= bs.weight;
+                eta2 *= bs.eta * bs.eta;
+                if !(beta.max_element() > 0.0 && beta.is_finite()) {
+                    break;
+                }
+                glossy = (!bs.delta).then_some(GlossyVertex { p: hit.p, n: bsdf.normal(), pdf: bs.pdf });
+                if depth + 1 >= RR_VERTICES {
+                    let q = (beta.max_element() * eta2).min(0.95);
+                    if sampler.next_1d() >= q {
+                        break;
+                    }
+                    beta /= q;
+                }
+                ray = hit.spawn(bs.wi);
+                continue;
+            }
+            glossy = None;
             let p_smooth = bsdf.smooth_probability();
             if p_smooth > 0.0 && !bsdf.picks_delta(u_lobe) {
                 let vp_beta = beta / p_smooth;
@@ -89,12 +159,29 @@ impl EyePass<'_> {
             }
             let Some(bs) = bsdf.sample(u_lobe, u_bsdf) else { break };
             beta *= bs.weight;
+            eta2 *= bs.eta * bs.eta;
             if !(beta.max_element() > 0.0 && beta.is_finite()) {
                 break;
             }
             ray = hit.spawn(bs.wi);
         }
         out
+    }
+
+    /// Next-event estimation at a glossy vertex the path continues from, weighted by MIS (power heuristic)
+    /// against BSDF sampling.
+    fn direct_mis(&self, hit: &SurfaceHit, bsdf: &Bsdf, u_choice: f32, u_light: Vec2) -> Vec3 {
+        let scene = self.scene;
+        let n = bsdf.normal();
+        let Some(ls) = self.lights.sample_li(&scene.lights, &scene.prims, hit.p, n, u_choice, u_light) else {
+            return Vec3::ZERO;
+        };
+        let (f, bsdf_pdf) = bsdf.eval_pdf(ls.wi);
+        if f == Vec3::ZERO || ls.pdf <= 0.0 || scene.occluded(&hit.spawn_to(&ls)) {
+            return Vec3::ZERO;
+        }
+        let w = if ls.delta { 1.0 } else { power_heuristic(ls.pdf, bsdf_pdf) };
+        f * ls.li * (ls.wi.dot(n).abs() * w / ls.pdf)
     }
 
     /// Next-event estimation of direct light at a visible point (light sampling alone: the eye path ends here, so

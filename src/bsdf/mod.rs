@@ -240,6 +240,14 @@ impl Bsdf {
         self.smooth
     }
 
+    /// True when a lobe scatters diffusely: a Lambertian lobe, or a plastic's diffuse substrate. A BSDF with smooth
+    /// lobes but none of these is glossy (rough conductors and dielectrics, lone Phong lobes), whose reflection of
+    /// its surroundings a density estimate on the surface would blur (see `ppm`'s eye pass).
+    #[inline]
+    pub fn has_diffuse(&self) -> bool {
+        self.lobes().iter().any(|l| matches!(l, Lobe::Diffuse { .. } | Lobe::Plastic { .. }))
+    }
+
     /// True when the BSDF has a delta lobe (mirror, smooth dielectric or conductor).
     #[inline]
     pub fn has_delta(&self) -> bool {
