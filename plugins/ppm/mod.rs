@@ -1,8 +1,9 @@
 //! `ppm`: progressive photon mapping with a hash-grid photon lookup.
 //!
 //! **Stochastic progressive photon mapping** (Hachisuka & Jensen 2009), the default. Every iteration:
-//! 1. an eye pass (`visible.rs`): one camera sample per pixel traced through specular chains to its first smooth
-//!    vertex, the *visible point*, which also gets direct light by next-event estimation;
+//! 1. an eye pass (`visible.rs`): one camera sample per pixel traced through specular chains (and, by default,
+//!    through glossy surfaces, path-traced with MIS) to its first smooth vertex, the *visible point*, which also
+//!    gets direct light by next-event estimation;
 //! 2. a photon pass (`photons.rs`): `photons` photons from the lights (chosen by power, `sample_le`), stored from
 //!    their second vertex on (direct light is the eye pass's), scattered with exact Fresnel and Russian roulette
 //!    (traced first in the code, so the lookup over them is built while the eye pass runs);
@@ -18,7 +19,7 @@
 //! direct light too). No anti-aliasing, no depth of field: what the stochastic variant buys.
 //!
 //! Parameters: `ppm(alpha: 0.7, radius: None, radius_pixels: 2, photons: None, max_depth: -1, mode: stochastic,
-//! lookup: hash_grid)`
+//! lookup: hash_grid, glossy: trace)`
 //! - `alpha`: the fraction of new photons kept per iteration, in (0, 1] (the seed's 0.7);
 //! - `radius`: the initial gather radius in world units; by default each pixel's is `radius_pixels` pixel
 //!   footprints at its first visible point (distance along the eye path x the pixel's angular size), so the same
@@ -28,7 +29,10 @@
 //! - `max_depth`: the longest light path in segments, counted as Mitsuba and `envlight` count them (-1 unlimited;
 //!   a photon deposited at its vertex v reaching a visible point after e specular eye vertices makes a path of
 //!   `e + v + 2` segments), so `ppm` and `envlight` render the same image for the same `max_depth`;
-//! - `mode`: `stochastic` | `fixed`; `lookup`: `hash_grid` | `kdtree`.
+//! - `mode`: `stochastic` | `fixed`; `lookup`: `hash_grid` | `kdtree`;
+//! - `glossy`: `trace` (eye paths go on through glossy surfaces, rough metal and glass, and photons are not stored
+//!   on them) | `gather` (visible points on them, which blurs what they reflect and blackens rough glass); fixed
+//!   mode always gathers.
 //!
 //! Deterministic whatever the thread count: photon `j` of iteration `k` draws from (seed, k, j), photons are stored
 //! in a fixed order, and each pixel sums its photons in a fixed order without atomics. Storage (visible points,

@@ -2,7 +2,8 @@
 //! scatter through the scene with the BSDFs' importance-transport sampling (exact Fresnel at mirrors and
 //! dielectrics) and Russian roulette on the throughput's drop, and are stored at every vertex with a smooth BSDF
 //! lobe from `first_deposit` on (1 in stochastic mode: direct light comes from the eye pass's next-event estimation;
-//! 0 in fixed mode, where photons carry all light).
+//! 0 in fixed mode, where photons carry all light) — except on glossy surfaces when the eye pass traces through
+//! them (`store_on_glossy` false), where no visible point would ever gather them.
 //!
 //! Photon `j` of iteration `k` draws its numbers from the sampler keyed by (seed, k), sample index `j`: the first
 //! five dimensions (light choice, origin, direction) are a stratified low-discrepancy set over the iteration's
