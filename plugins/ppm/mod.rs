@@ -319,10 +319,18 @@ impl Integrator for Ppm {
         }
         if self.iterations > 0 && !self.warned_no_visible_points && self.stats.iter().all(|s| !s.has_radius()) {
             self.warned_no_visible_points = true;
-            eprintln!(
-                "warning: ppm: no visible points (no eye path reached a diffuse or glossy surface): only emission seen \
-                 through specular surfaces and the background is rendered"
-            );
+            if self.params.traces_glossy() {
+                eprintln!(
+                    "note: ppm: no eye path reached a diffuse surface, so no photon was gathered: the image is path \
+                     traced through the specular and glossy surfaces alone (complete; `envlight` renders it without \
+                     the photon passes)"
+                );
+            } else {
+                eprintln!(
+                    "warning: ppm: no visible points (no eye path reached a diffuse or glossy surface): only emission \
+                     seen through specular surfaces and the background is rendered"
+                );
+            }
         }
         PassOutput::Estimate { image: self.image(fixed), complete }
     }
