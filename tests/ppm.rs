@@ -205,16 +205,21 @@ fn hash_grid_queries_far_wider_than_a_cell_find_exactly_the_photons_within_the_r
 
 #[test]
 fn ppm_is_bit_identical_across_thread_counts() {
-    let render = |threads: usize| {
-        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
-        pool.install(|| {
-            render_file(&scene_path("cornell_caustic.ron"), Overrides { size: Some((48, 48)), ..with("ppm", 3) })
-        })
-    };
-    let (a, b) = (render(1), render(2));
-    assert!(
-        a.pixels.iter().zip(&b.pixels).all(|(p, q)| p.to_array().map(f32::to_bits) == q.to_array().map(f32::to_bits))
-    );
+    // The caustic box (specular chains) and the rough one (eye paths traced through glossy spheres, with roulette).
+    for scene in ["cornell_caustic.ron", "cornell_rough.ron"] {
+        let render = |threads: usize| {
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+            pool.install(|| render_file(&scene_path(scene), Overrides { size: Some((48, 48)), ..with("ppm", 3) }))
+        };
+        let (a, b) = (render(1), render(2));
+        assert!(
+            a.pixels
+                .iter()
+                .zip(&b.pixels)
+                .all(|(p, q)| p.to_array().map(f32::to_bits) == q.to_array().map(f32::to_bits)),
+            "{scene}"
+        );
+    }
 }
 
 #[test]
