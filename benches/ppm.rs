@@ -2,7 +2,7 @@
 //! - `photon_pass/{cornell,caustic}`: tracing one iteration's photons (throughput: photons emitted);
 //! - `eye_pass/{cornell,caustic}`: one eye pass (camera paths to visible points, direct light);
 //! - `lookup_build/{hash_grid,kdtree}` and `gather/{hash_grid,kdtree}`: building each photon lookup over the same
-//!   stored photons and gathering at every visible point with the pixels' initial radii (2 pixel footprints).
+//!   stored photons and gathering at every visible point with the pixels' initial radii (3 pixel footprints, the default).
 //!   Both lookups find the same photons; the ratio of their times is the comparison the design card asks for.
 //!
 //! `cargo bench --bench ppm` (the first run prints photons stored and the interleaved best-of ratios on stderr).

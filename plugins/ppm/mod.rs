@@ -18,13 +18,14 @@
 //! start, fixed visible points, then photon passes only, with photons stored from their first vertex (they carry
 //! direct light too). No anti-aliasing, no depth of field: what the stochastic variant buys.
 //!
-//! Parameters: `ppm(alpha: 0.7, radius: None, radius_pixels: 2, photons: None, max_depth: -1, mode: stochastic,
+//! Parameters: `ppm(alpha: 0.7, radius: None, radius_pixels: 3, photons: None, max_depth: -1, mode: stochastic,
 //! lookup: hash_grid, glossy: trace)`
 //! - `alpha`: the fraction of new photons kept per iteration, in (0, 1] (the seed's 0.7);
 //! - `radius`: the initial gather radius in world units; by default each pixel's is `radius_pixels` pixel
 //!   footprints at its first visible point (distance along the eye path x the pixel's angular size), so the same
-//!   settings work at any scene scale and resolution: with `photons` = the pixel count, a radius of 2 pixels holds a
-//!   few photons per iteration on any diffuse surface the camera sees;
+//!   settings work at any scene scale and resolution: with `photons` = the pixel count, a radius of 3 pixels holds a
+//!   few photons per iteration on any diffuse surface the camera sees (3 measured best at equal time on all five
+//!   reference scenes at 256x256: `docs/performance_log.md`);
 //! - `photons`: photons per iteration (default: the image's pixel count; at most 2^24);
 //! - `max_depth`: the longest light path in segments, counted as Mitsuba and `envlight` count them (-1 unlimited;
 //!   a photon deposited at its vertex v reaching a visible point after e specular eye vertices makes a path of

@@ -51,7 +51,7 @@ pub struct PpmParams {
     /// Initial gather radius in world units; by default `radius_pixels` pixel footprints at each pixel's first
     /// visible point.
     pub radius: Option<f32>,
-    /// Initial radius in pixel footprints when `radius` is not given.
+    /// Initial radius in pixel footprints when `radius` is not given (default 3).
     pub radius_pixels: f32,
     /// Photons emitted per iteration; default: the image's pixel count.
     pub photons: Option<u64>,
@@ -69,7 +69,7 @@ impl Default for PpmParams {
         PpmParams {
             alpha: 0.7,
             radius: None,
-            radius_pixels: 2.0,
+            radius_pixels: 3.0,
             photons: None,
             max_depth: -1,
             mode: PpmMode::Stochastic,
