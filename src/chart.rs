@@ -36,6 +36,11 @@ const W: f64 = 760.0;
 const H: f64 = 480.0;
 const LEFT: f64 = 80.0;
 const RIGHT: f64 = 200.0;
+/// A generous width of one legend character at the 12 px sans-serif font (digits and lower case are narrower):
+/// the chart widens to fit its longest label instead of cutting it at the edge.
+const LEGEND_CHAR: f64 = 7.2;
+/// Legend swatch, gap before the text, and margin after it.
+const LEGEND_PAD: f64 = 14.0 + 28.0 + 12.0;
 const TOP: f64 = 40.0;
 const BOTTOM: f64 = 60.0;
 const COLORS: [&str; 8] = ["#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b", "#e377c2", "#17becf"];
@@ -150,14 +155,16 @@ impl Chart {
         let xa = Axis::new(pts().map(|p| p.0), self.log_x);
         let ya = Axis::new(pts().map(|p| p.1).chain(decor.hlines.iter().map(|h| h.1)), self.log_y);
         let (pw, ph) = (W - LEFT - RIGHT, H - TOP - BOTTOM);
+        let longest = self.series.iter().map(|s| s.name.chars().count()).max().unwrap_or(0);
+        let w = LEFT + pw + RIGHT.max(LEGEND_PAD + LEGEND_CHAR * longest as f64).ceil();
         let px = |v: f64| LEFT + xa.t(v) * pw;
         let py = |v: f64| TOP + (1.0 - ya.t(v)) * ph;
         let mut s = String::new();
         let _ = write!(
             s,
-            r#"<svg xmlns="http://www.w3.org/2000/svg" width="{W}" height="{H}" viewBox="0 0 {W} {H}" font-family="sans-serif" font-size="12">"#
+            r#"<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{H}" viewBox="0 0 {w} {H}" font-family="sans-serif" font-size="12">"#
         );
-        let _ = write!(s, r#"<rect width="{W}" height="{H}" fill="white"/>"#);
+        let _ = write!(s, r#"<rect width="{w}" height="{H}" fill="white"/>"#);
         let _ = write!(
             s,
             r#"<text x="{}" y="24" text-anchor="middle" font-size="15">{}</text>"#,

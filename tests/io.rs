@@ -284,4 +284,14 @@ fn charts_are_standalone_svg_with_one_polyline_per_series() {
     let path = scratch("chart").join("c.svg");
     chart.write_svg(&path).unwrap();
     assert!(std::fs::metadata(&path).unwrap().len() > 1000);
+    // A long legend label widens the chart instead of running off its edge (at 7.2 px per character of the 12 px
+    // font, more than any glyph of these labels needs).
+    let width =
+        |svg: &str| -> f64 { svg.split("width=\"").nth(1).unwrap().split('"').next().unwrap().parse().unwrap() };
+    assert_eq!(width(&svg), 760.0, "short labels keep the default width");
+    let long = "ppm(max_depth: 12, mode: fixed, radius_pixels: 3)";
+    let wide = Chart { series: vec![Series { name: long.into(), points: vec![(1.0, 0.1), (2.0, 0.05)] }], ..chart };
+    let svg = wide.to_svg();
+    let text_x: f64 = svg.split("<text x=\"").last().unwrap().split('"').next().unwrap().parse().unwrap();
+    assert!(width(&svg) >= text_x + 7.2 * long.len() as f64, "legend of {} px in a chart {} wide", text_x, width(&svg));
 }
