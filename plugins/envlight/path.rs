@@ -13,7 +13,7 @@ use crate::geometry::Ray;
 use crate::integrator::PixelIntegrator;
 use crate::lights::LightSampler;
 use crate::primitives::{NO_LIGHT, SurfaceHit};
-use crate::sampling::Sampler;
+use crate::sampling::{Sampler, power_heuristic};
 use crate::scene::Scene;
 use glam::{Vec3, Vec3A};
 
@@ -29,12 +29,6 @@ struct Prev {
     n: Vec3A,
     pdf: f32,
     delta: bool,
-}
-
-#[inline]
-fn power_heuristic(a: f32, b: f32) -> f32 {
-    let (a2, b2) = (a * a, b * b);
-    if a2 + b2 == 0.0 { 0.0 } else { a2 / (a2 + b2) }
 }
 
 impl PathTracer {

@@ -17,7 +17,7 @@
 use crate::bsdf::Bsdf;
 use crate::lights::LightSampler;
 use crate::primitives::SurfaceHit;
-use crate::sampling::{Rng, Sampler, SamplerKind, hash_u64};
+use crate::sampling::{Rng, Sampler, SamplerKind, hash_u64, power_heuristic};
 use crate::scene::Scene;
 use crate::settings::RenderSettings;
 use glam::{Vec2, Vec3, Vec3A};
@@ -67,12 +67,6 @@ struct GlossyVertex {
     p: Vec3A,
     n: Vec3A,
     pdf: f32,
-}
-
-#[inline]
-fn power_heuristic(a: f32, b: f32) -> f32 {
-    let (a2, b2) = (a * a, b * b);
-    if a2 + b2 == 0.0 { 0.0 } else { a2 / (a2 + b2) }
 }
 
 impl EyePass<'_> {

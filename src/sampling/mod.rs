@@ -1,9 +1,10 @@
 //! Random numbers and sample distributions: a PCG32 generator seeded per (seed, pixel, pass) so images do not
 //! depend on thread scheduling, samplers (independent, stratified, Owen-scrambled Sobol over every dimension), pixel
-//! sample patterns (RGSS, stratified jitter, uniform grid, independent), pixel filters, and warps from the
+//! sample patterns (RGSS, stratified jitter, uniform grid, independent), pixel filters, MIS weights, and warps from the
 //! unit square to the domains integrators need, each with its exact pdf (tested by chi-square in `tests/sampling`).
 
 mod filter;
+mod mis;
 mod pattern;
 mod permute;
 mod rng;
@@ -12,6 +13,7 @@ mod sobol;
 pub mod warp;
 
 pub use filter::{MAX_FILTER_RADIUS, PixelFilter};
+pub use mis::power_heuristic;
 pub use pattern::PixelPattern;
 pub use permute::permute;
 pub use rng::{Rng, hash_u64};
