@@ -12,7 +12,7 @@ use crate::bsdf::Bsdf;
 use crate::geometry::Ray;
 use crate::integrator::PixelIntegrator;
 use crate::lights::LightSampler;
-use crate::primitives::{NO_LIGHT, SurfaceHit};
+use crate::primitives::NO_LIGHT;
 use crate::sampling::{Sampler, power_heuristic};
 use crate::scene::Scene;
 use glam::{Vec3, Vec3A};
@@ -43,22 +43,6 @@ impl PathTracer {
             Some(_) if light_pdf > 0.0 => 0.0,
             Some(_) => 1.0,
         }
-    }
-
-    /// Next-event estimation at `s`: one light chosen by power.
-    #[inline]
-    fn sample_light(&self, scene: &Scene, s: &SurfaceHit, bsdf: &Bsdf, u_choice: f32, u: glam::Vec2) -> Vec3 {
-        let n = bsdf.normal();
-        let Some(ls) = self.lights.sample_li(&scene.lights, &scene.prims, s.p, n, u_choice, u) else {
-            return Vec3::ZERO;
-        };
-        let (f, bsdf_pdf) = bsdf.eval_pdf(ls.wi);
-        let cos = ls.wi.dot(n).abs();
-        if f == Vec3::ZERO || scene.occluded(&s.spawn_to(&ls)) {
-            return Vec3::ZERO;
-        }
-        let w = if ls.delta || !self.params.mis { 1.0 } else { power_heuristic(ls.pdf, bsdf_pdf) };
-        f * ls.li * (cos * w / ls.pdf)
     }
 }
 
@@ -112,7 +96,7 @@ impl PixelIntegrator for PathTracer {
             let u_rr = sampler.defer_1d();
             if bsdf.has_smooth() && !self.lights.is_empty() {
                 let uc = if self.lights.uses_choice_number() { sampler.get_1d(u_choice) } else { 0.0 };
-                l += beta * self.sample_light(scene, &s, &bsdf, uc, u_light);
+                l += beta * self.lights.direct_light(scene, &s, &bsdf, uc, u_light, self.params.mis);
             }
             let ul = if bsdf.uses_lobe_number() { sampler.get_1d(u_lobe) } else { 0.0 };
             let Some(bs) = bsdf.sample(ul, u_bsdf) else { break };

@@ -120,7 +120,7 @@ impl EyePass<'_> {
                 if depth + 2 > self.max_segments {
                     break;
                 }
-                out.direct += beta * self.direct_mis(&hit, &bsdf, u_choice, u_light);
+                out.direct += beta * self.lights.direct_light(scene, &hit, &bsdf, u_choice, u_light, true);
                 let Some(bs) = bsdf.sample(u_lobe, u_bsdf) else { break };
                 beta *= bs.weight;
                 eta2 *= bs.eta * bs.eta;
@@ -160,22 +160,6 @@ impl EyePass<'_> {
             ray = hit.spawn(bs.wi);
         }
         out
-    }
-
-    /// Next-event estimation at a glossy vertex the path continues from, weighted by MIS (power heuristic)
-    /// against BSDF sampling.
-    fn direct_mis(&self, hit: &SurfaceHit, bsdf: &Bsdf, u_choice: f32, u_light: Vec2) -> Vec3 {
-        let scene = self.scene;
-        let n = bsdf.normal();
-        let Some(ls) = self.lights.sample_li(&scene.lights, &scene.prims, hit.p, n, u_choice, u_light) else {
-            return Vec3::ZERO;
-        };
-        let (f, bsdf_pdf) = bsdf.eval_pdf(ls.wi);
-        if f == Vec3::ZERO || ls.pdf <= 0.0 || scene.occluded(&hit.spawn_to(&ls)) {
-            return Vec3::ZERO;
-        }
-        let w = if ls.delta { 1.0 } else { power_heuristic(ls.pdf, bsdf_pdf) };
-        f * ls.li * (ls.wi.dot(n).abs() * w / ls.pdf)
     }
 
     /// Next-event estimation of direct light at a visible point (light sampling alone: the eye path ends here, so

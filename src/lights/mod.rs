@@ -15,6 +15,7 @@
 //! hit names its light directly; the environment, if any, is slot `lights.len()`.
 
 mod area;
+mod direct;
 mod directional;
 mod env_sampling;
 mod environment;

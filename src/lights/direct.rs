@@ -1,0 +1,30 @@
+//! Next-event estimation at a path vertex, shared by the integrators that weigh it against BSDF sampling: one
+//! light chosen by power and sampled towards the vertex ([`LightSampler::sample_li`]), its shadow ray traced, and
+//! the contribution `f Li |cos| w / pdf` with `w` the power heuristic against the BSDF's density for the same
+//! direction (1 for delta lights, which BSDF sampling cannot reach, and when MIS is off).
+
+use super::LightSampler;
+use crate::bsdf::Bsdf;
+use crate::primitives::SurfaceHit;
+use crate::sampling::power_heuristic;
+use crate::scene::Scene;
+use glam::{Vec2, Vec3};
+
+impl LightSampler {
+    /// Direct light at `s` (BSDF `bsdf`) from one light sample drawn with `u_choice` and `u`, weighted by the power
+    /// heuristic against BSDF sampling when `mis` (light sampling alone counts it otherwise); 0 when the light is
+    /// occluded, the BSDF does not scatter that way, or the sample has no density.
+    #[inline]
+    pub fn direct_light(&self, scene: &Scene, s: &SurfaceHit, bsdf: &Bsdf, u_choice: f32, u: Vec2, mis: bool) -> Vec3 {
+        let n = bsdf.normal();
+        let Some(ls) = self.sample_li(&scene.lights, &scene.prims, s.p, n, u_choice, u) else {
+            return Vec3::ZERO;
+        };
+        let (f, bsdf_pdf) = bsdf.eval_pdf(ls.wi);
+        if f == Vec3::ZERO || ls.pdf <= 0.0 || scene.occluded(&s.spawn_to(&ls)) {
+            return Vec3::ZERO;
+        }
+        let w = if ls.delta || !mis { 1.0 } else { power_heuristic(ls.pdf, bsdf_pdf) };
+        f * ls.li * (ls.wi.dot(n).abs() * w / ls.pdf)
+    }
+}
