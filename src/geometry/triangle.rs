@@ -12,7 +12,8 @@
 //! them compute bit-identical hits.
 
 use super::{Ray, gamma};
-use glam::{Vec3A, Vec3Swizzles};
+use core::arch::x86_64::__m128;
+use glam::{Vec3A, Vec3Swizzles, Vec4};
 
 /// A triangle with its vertices' coordinates gathered per axis: lane i of `xs` is vertex i's x.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -98,16 +99,14 @@ impl WatertightRay {
         }
     }
 
-    /// The ray origin's coordinates.
+    /// The ray origin's coordinates and the shear/permutation matrix rows (coefficient c of row r at `[r][c]`),
+    /// each splatted across the four lanes of a `Vec4` for the packet tests. Every value is stored splatted across
+    /// all four lanes of its `Vec3A`, so this reinterprets the registers (no extraction and broadcast per packet).
     #[inline(always)]
-    pub(super) fn origin_splat(&self) -> [f32; 3] {
-        [self.ox.x, self.oy.x, self.oz.x]
-    }
-
-    /// The shear/permutation matrix rows (coefficient c of row r at `[r][c]`).
-    #[inline(always)]
-    pub(super) fn shear_rows(&self) -> [[f32; 3]; 3] {
-        self.rows.map(|row| row.map(|c| c.x))
+    pub(super) fn splats4(&self) -> ([Vec4; 3], [[Vec4; 3]; 3]) {
+        let v = |a: Vec3A| Vec4::from(__m128::from(a));
+        let row = |r: &[Vec3A; 3]| [v(r[0]), v(r[1]), v(r[2])];
+        ([v(self.ox), v(self.oy), v(self.oz)], [row(&self.rows[0]), row(&self.rows[1]), row(&self.rows[2])])
     }
 
     /// Intersect the triangle `(p0, p1, p2)`; hits with `t` in `(0, tmax)` only.

@@ -59,10 +59,7 @@ impl WatertightRay {
     /// and only the exact test's double-precision fallback can tell). Never clears a bit the exact test would hit.
     #[inline(always)]
     pub fn packet_candidates(&self, p: &TriPacket) -> u32 {
-        let [o_x, o_y, o_z] = self.origin_splat().map(Vec4::splat);
-        let [r0, r1, _] = self.shear_rows();
-        let (c00, c01, c02) = (Vec4::splat(r0[0]), Vec4::splat(r0[1]), Vec4::splat(r0[2]));
-        let (c10, c11, c12) = (Vec4::splat(r1[0]), Vec4::splat(r1[1]), Vec4::splat(r1[2]));
+        let ([o_x, o_y, o_z], [[c00, c01, c02], [c10, c11, c12], _]) = self.splats4();
         // Sheared x and y of vertex i, as in `intersect_soa` (same products, same order of additions).
         let sheared = |i: usize| {
             let (dx, dy, dz) = (p.v[i][0] - o_x, p.v[i][1] - o_y, p.v[i][2] - o_z);
@@ -88,10 +85,7 @@ impl WatertightRay {
     /// (lane, hit); ties go to the lowest lane. Each lane's result equals `intersect_soa` on that lane.
     #[inline(always)]
     pub fn intersect_packet(&self, p: &TriPacket, lanes: u32, tmax: f32) -> Option<(usize, TriangleHit)> {
-        let [o_x, o_y, o_z] = self.origin_splat().map(Vec4::splat);
-        let [r0, r1, r2] = self.shear_rows();
-        let c = |r: [f32; 3]| (Vec4::splat(r[0]), Vec4::splat(r[1]), Vec4::splat(r[2]));
-        let ((c00, c01, c02), (c10, c11, c12), (c20, c21, c22)) = (c(r0), c(r1), c(r2));
+        let ([o_x, o_y, o_z], [[c00, c01, c02], [c10, c11, c12], [c20, c21, c22]]) = self.splats4();
         let d = |i: usize| (p.v[i][0] - o_x, p.v[i][1] - o_y, p.v[i][2] - o_z);
         let (d0, d1, d2) = (d(0), d(1), d(2));
         let sx = |d: (Vec4, Vec4, Vec4)| d.0 * c00 + d.1 * c01 + d.2 * c02;

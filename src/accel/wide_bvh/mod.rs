@@ -18,7 +18,8 @@
 //! a CPU core the uncompressed layout tests the same boxes with fewer instructions and no per-child decode
 //! (measured in the README's performance section).
 //!
-//! Traversal: ordered (children pushed far to near by their entry distance, so the nearest is taken first), with a
+//! Traversal: ordered (children pushed far to near by their entry distance, so the nearest is taken first; with
+//! three or more, each child's stack slot is counted without branches, `BoxTest::stack_slots`), with a
 //! 32-entry stack, which a query that would overflow it (rare) exchanges for one sized from the tree's depth by
 //! starting again; box tests are robust to axis-parallel rays (reciprocals clamped to +-1e25, -0 treated as +0)
 //! and conservative against rounding (the exit distance is scaled by `1 + 2 gamma(3)`, Ize 2013). Occlusion stops
@@ -410,7 +411,7 @@ impl WideBvh {
             } else {
                 counter.node();
                 let n = &self.nodes[cur as usize];
-                let (t, mut mask) = rb.test(n, end);
+                let (t, mask) = rb.test(n, end);
                 if mask != 0 {
                     if sp + WIDTH > stack.len() {
                         return None;
@@ -443,20 +444,14 @@ impl WideBvh {
                         cur = n.child[near];
                         continue;
                     }
-                    // Three or more: push far to near (insertion), then pop the nearest.
-                    let base = sp;
-                    while mask != 0 {
-                        let i = mask.trailing_zeros() as usize;
-                        mask &= mask - 1;
-                        let e = (n.child[i], t[i]);
-                        let mut j = sp;
-                        while j > base && stack[j - 1].1 < e.1 {
-                            stack[j] = stack[j - 1];
-                            j -= 1;
-                        }
-                        stack[j] = e;
-                        sp += 1;
+                    // Three or more: all eight written far to near (the children not hit above the stack pointer),
+                    // then pop the nearest.
+                    let slots = rb.stack_slots(&t, mask);
+                    let top = &mut stack[sp..sp + WIDTH];
+                    for i in 0..WIDTH {
+                        top[slots[i] as usize & (WIDTH - 1)] = (n.child[i], t[i]);
                     }
+                    sp += mask.count_ones() as usize;
                 }
             }
             // Next: the nearest pending child that starts before the closest hit so far.
