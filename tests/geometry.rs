@@ -126,6 +126,59 @@ fn packet_prefilter_never_rejects_a_triangle_the_exact_watertight_test_hits() {
     assert!(exact_hits > 0 && survivors < lanes / 4, "{survivors} of {lanes} lanes survived ({exact_hits} hits)");
 }
 
+/// The BVH's leaves test a packet's surviving lanes with `intersect_packet`, the whole watertight test four lanes
+/// at once; it must give exactly what the scalar kernel gives called on those lanes in order, each call's `tmax`
+/// the hit found so far: the same lane, `t` and barycentrics bit for bit. Rays through the vertices and edges of a
+/// closed mesh (zero edge functions: the double-precision fallback), random rays, random `tmax` (cutting hits
+/// off), and packets holding the same triangle twice or a coplanar copy (exact ties: the lower lane wins).
+#[test]
+fn a_packets_whole_watertight_test_equals_the_scalar_kernel_lane_after_lane() {
+    let mut tris = closed_mesh(2);
+    // Ties: a triangle twice in one packet, and one moved within its own plane.
+    let (a, b) = (tris[5], tris[9]);
+    assert_eq!(tris.len() % 4, 0, "the tie packets must start on a packet boundary");
+    let shift = (a[1] - a[0]) * 0.25;
+    tris.extend([a, b, a, b]);
+    tris.extend([[a[0] + shift, a[1] + shift, a[2] + shift], a, b, b]);
+    let mut rng = Rng::new(21, 5);
+    let mut rays = Vec::new();
+    for t in &tris {
+        for i in 0..3 {
+            let o = Vec3A::new(0.1, -0.2, 0.05);
+            rays.push(Ray::new(o, (t[i] - o).normalize()));
+            rays.push(Ray::new(o, ((t[i] + t[(i + 1) % 3]) * 0.5 - o).normalize()));
+        }
+    }
+    for _ in 0..4000 {
+        let o = warp::uniform_sphere(rng.next_2d()) * (0.5 + 3.0 * rng.next_f32());
+        rays.push(Ray::new(o, warp::uniform_sphere(rng.next_2d())));
+    }
+    let bits = |(k, h): (usize, prism::geometry::TriangleHit)| (k, [h.t, h.b0, h.b1, h.b2].map(f32::to_bits));
+    let mut hits = 0;
+    for ray in &rays {
+        let wt = WatertightRay::new(ray);
+        for chunk in tris.chunks(4) {
+            let packet = TriPacket::new(chunk);
+            for tmax in [f32::INFINITY, 0.5 + 3.0 * rng.next_f32()] {
+                for lanes in [(1u32 << chunk.len()) - 1, rng.next_u32() & ((1 << chunk.len()) - 1)] {
+                    let mut end = tmax;
+                    let mut expected = None;
+                    for k in (0..chunk.len()).filter(|k| lanes >> k & 1 == 1) {
+                        if let Some(h) = wt.intersect_soa(&packet.lane(k), end) {
+                            end = h.t;
+                            expected = Some((k, h));
+                        }
+                    }
+                    let got = wt.intersect_packet(&packet, lanes, tmax);
+                    assert_eq!(got.map(bits), expected.map(bits), "ray {ray:?}, lanes {lanes:#b}, tmax {tmax}");
+                    hits += expected.is_some() as u32;
+                }
+            }
+        }
+    }
+    assert!(hits > 1000, "too few hits ({hits}) for the test to mean anything");
+}
+
 #[test]
 fn triangle_barycentrics_reconstruct_the_hit_point() {
     let (p0, p1, p2) = (Vec3A::new(0., 0., 0.), Vec3A::new(2., 0., 0.), Vec3A::new(0., 3., 1.));

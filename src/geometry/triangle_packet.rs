@@ -82,7 +82,8 @@ impl WatertightRay {
 
 impl WatertightRay {
     /// The nearest hit with `t` in `(0, tmax)` among the lanes of `lanes` (bit k: lane k is a triangle), as
-    /// (lane, hit); ties go to the lowest lane. Each lane's result equals `intersect_soa` on that lane.
+    /// (lane, hit): bit for bit what calling `intersect_soa` on the lanes in order gives, each call's `tmax` the
+    /// previous hit's `t` (so ties go to the lowest lane).
     #[inline(always)]
     pub fn intersect_packet(&self, p: &TriPacket, lanes: u32, tmax: f32) -> Option<(usize, TriangleHit)> {
         let ([o_x, o_y, o_z], [[c00, c01, c02], [c10, c11, c12], [c20, c21, c22]]) = self.splats4();
@@ -122,27 +123,31 @@ impl WatertightRay {
             * inv.abs();
         let ok = (in_range_pos | in_range_neg) & t.cmpgt(delta_t);
         let valid = ok.bitmask() & !(neg & pos).bitmask() & lanes & !exact_zero;
-        let (ta, ua, va, wa, inva) = (t.to_array(), u.to_array(), v.to_array(), w.to_array(), inv.to_array());
+        let (ta, tsa, deta) = (t.to_array(), t_scaled.to_array(), det.to_array());
+        let (ua, va, wa, inva) = (u.to_array(), v.to_array(), w.to_array(), inv.to_array());
+        // The lanes in order, each against the nearest hit so far, exactly as the exact kernel called lane after
+        // lane with `tmax` shrinking to each hit: a valid lane (in range of the first `tmax`) counts if its scaled
+        // distance is in range of the current one, by the kernel's own comparisons; a lane with an edge function
+        // exactly zero goes through the kernel itself (its double-precision edge functions).
         let mut best: Option<(usize, TriangleHit)> = None;
-        let mut m = valid;
+        let mut end = tmax;
+        let mut m = valid | exact_zero;
         while m != 0 {
             let k = m.trailing_zeros() as usize;
             m &= m - 1;
-            if best.is_none_or(|(_, b)| ta[k] < b.t) {
-                let hit = TriangleHit { t: ta[k], b0: ua[k] * inva[k], b1: va[k] * inva[k], b2: wa[k] * inva[k] };
-                best = Some((k, hit));
+            if exact_zero >> k & 1 != 0 {
+                if let Some(h) = self.intersect_soa(&p.lane(k), end) {
+                    end = h.t;
+                    best = Some((k, h));
+                }
+                continue;
             }
-        }
-        // Lanes on an edge or vertex: the scalar kernel with its double-precision edge functions.
-        let mut m = exact_zero;
-        while m != 0 {
-            let k = m.trailing_zeros() as usize;
-            m &= m - 1;
-            let bound = best.map_or(tmax, |(_, b)| b.t);
-            if let Some(h) = self.intersect_soa(&p.lane(k), bound)
-                && best.is_none_or(|(bk, b)| h.t < b.t || (h.t == b.t && k < bk))
-            {
-                best = Some((k, h));
+            let (ts, limit) = (tsa[k], end * deta[k]);
+            let in_range = if deta[k] > 0.0 { ts > 0.0 && ts < limit } else { ts < 0.0 && ts > limit };
+            if in_range {
+                end = ta[k];
+                best =
+                    Some((k, TriangleHit { t: ta[k], b0: ua[k] * inva[k], b1: va[k] * inva[k], b2: wa[k] * inva[k] }));
             }
         }
         best

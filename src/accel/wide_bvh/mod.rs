@@ -324,6 +324,16 @@ impl WideBvh {
                 counter.prim();
             }
             let mut candidates = wt.packet_candidates(&p.tris) & p.tri_lanes as u32;
+            if !ANY && candidates & (candidates - 1) != 0 {
+                // Closest hit, two or more lanes left: the rest of the watertight test for all four at once,
+                // lane after lane as the scalar kernel would (`intersect_packet`), not one lane at a time.
+                let leaves = p.ids.iter().enumerate().fold(0, |m, (k, &id)| m | ((id == ray.leaves) as u32) << k);
+                if let Some((lane, h)) = wt.intersect_packet(&p.tris, candidates & !leaves, *end) {
+                    *end = h.t;
+                    *best = Some(Hit { t: h.t, prim: p.ids[lane], b1: h.b1, b2: h.b2 });
+                }
+                candidates = 0;
+            }
             while candidates != 0 {
                 let lane = candidates.trailing_zeros() as usize;
                 candidates &= candidates - 1;
