@@ -2,16 +2,17 @@
  * thread, on the ray sets `prism bench --export-rays DIR` writes (DIR/SCENE.prism-rays; layout in Prism's
  * src/accel/ray_file.rs), and check Embree's answers against Prism's.
  *
- *   embree_rays FILE.prism-rays [--seconds S] [--robust] [--verbose]
+ *   embree_rays FILE.prism-rays [--seconds S] [--robust] [--quality medium|high] [--passes N] [--verbose]
  *
  * Build (benches/embree/embree_compare.py does this): gcc -O2 -o embree_rays embree_rays.c -lembree3 (or -lembree4
  * with -DEMBREE4 and <embree4/rtcore.h>).
  *
  * The scene is one triangle geometry (triangle i of the file is primID i) built with RTC_BUILD_QUALITY_HIGH
- * (the scene's and the geometry's), scene flags none (or RTC_SCENE_FLAG_ROBUST with --robust), on a device made
+ * (the scene's and the geometry's; --quality medium: RTC_BUILD_QUALITY_MEDIUM, binned SAH without spatial splits), scene flags none (or RTC_SCENE_FLAG_ROBUST with --robust), on a device made
  * with "threads=1". Timing mirrors `prism bench`: rounds in which every ray set (camera and bounce rays: closest
  * hit, shadow rays: occlusion) is traced once in a plain loop over single rays, until each set has had at least S
- * seconds and at least 3 rounds were done; each number is the fastest pass. Output: a human-readable summary on
+ * seconds and at least 3 rounds were done; each number is the fastest pass. --passes N instead does exactly N
+ * rounds (0: none), for counting one pass's work under valgrind --tool=cachegrind (the difference of two counts). Output: a human-readable summary on
  * stderr and one JSON line on stdout:
  *   {"embree": "3.13.5", "tris": T, "build_ms": ..., "sets": [{"kind": "camera", "rays": N, "best_s": ...,
  *    "mrays": ..., "agree": ..., "self_hits": ..., "checked": ...}, ...]}
@@ -130,23 +131,41 @@ static double pass(RTCScene scene, const Ray7 *rays, uint32_t n, int shadow, uin
 int main(int argc, char **argv) {
     const char *path = NULL;
     double seconds = 0.5;
-    int robust = 0, verbose = 0;
+    int robust = 0, verbose = 0, passes = -1;
+    enum RTCBuildQuality quality = RTC_BUILD_QUALITY_HIGH;
     for (int i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--seconds") && i + 1 < argc) {
             seconds = atof(argv[++i]);
         } else if (!strcmp(argv[i], "--robust")) {
             robust = 1;
+        } else if (!strcmp(argv[i], "--quality") && i + 1 < argc) {
+            const char *q = argv[++i];
+            if (strcmp(q, "medium") && strcmp(q, "high")) {
+                fprintf(stderr, "--quality: expected medium or high, got '%s'\n", q);
+                return 2;
+            }
+            quality = !strcmp(q, "medium") ? RTC_BUILD_QUALITY_MEDIUM : RTC_BUILD_QUALITY_HIGH;
+        } else if (!strcmp(argv[i], "--passes") && i + 1 < argc) {
+            char *end = NULL;
+            long n = strtol(argv[++i], &end, 10);
+            if (!end || *end || n < 0 || n > 1000000) {
+                fprintf(stderr, "--passes: expected a count from 0 to 1000000\n");
+                return 2;
+            }
+            passes = (int)n;
         } else if (!strcmp(argv[i], "--verbose")) {
             verbose = 1;
         } else if (argv[i][0] != '-' && !path) {
             path = argv[i];
         } else {
-            fprintf(stderr, "usage: embree_rays FILE.prism-rays [--seconds S] [--robust] [--verbose]\n");
+            fprintf(stderr, "usage: embree_rays FILE.prism-rays [--seconds S] [--robust] [--quality medium|high] "
+                            "[--passes N] [--verbose]\n");
             return 2;
         }
     }
     if (!path || !(seconds > 0.0)) {
-        fprintf(stderr, "usage: embree_rays FILE.prism-rays [--seconds S] [--robust] [--verbose]\n");
+        fprintf(stderr, "usage: embree_rays FILE.prism-rays [--seconds S] [--robust] [--quality medium|high] "
+                            "[--passes N] [--verbose]\n");
         return 2;
     }
 
@@ -169,10 +188,10 @@ int main(int argc, char **argv) {
     if (!device) die("rtcNewDevice failed", path);
     rtcSetDeviceErrorFunction(device, on_error, NULL);
     RTCScene scene = rtcNewScene(device);
-    rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_HIGH);
+    rtcSetSceneBuildQuality(scene, quality);
     rtcSetSceneFlags(scene, robust ? RTC_SCENE_FLAG_ROBUST : RTC_SCENE_FLAG_NONE);
     RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
-    rtcSetGeometryBuildQuality(geom, RTC_BUILD_QUALITY_HIGH);
+    rtcSetGeometryBuildQuality(geom, quality);
     float *vb = rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 12, nt * 3);
     unsigned *ib = rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 12, nt);
     const unsigned char *p = buf + 28;
@@ -245,7 +264,7 @@ int main(int argc, char **argv) {
     for (int round = 0;; round++) {
         int more = 0;
         for (int s = 0; s < 3; s++) {
-            if (!counts[s] || (round >= 3 && spent[s] >= seconds)) continue;
+            if (!counts[s] || (passes >= 0 ? round >= passes : round >= 3 && spent[s] >= seconds)) continue;
             double dt = pass(scene, sets[s], (uint32_t)counts[s], s == 2, &sink);
             if (dt < best[s]) best[s] = dt;
             spent[s] += dt;
