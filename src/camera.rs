@@ -87,14 +87,14 @@ impl CameraRig {
         ((2.0 * fx - 1.0) * self.half_w, (1.0 - 2.0 * fy) * self.half_h)
     }
 
-    /// The primary ray through film position `film` (pixels).
+    /// The primary ray through film position `film` (pixels), marked coherent ([`Ray::coherent`]).
     #[inline]
     pub fn generate_ray(&self, film: Vec2) -> Ray {
         let (x, y) = self.plane(film);
         if self.ortho {
-            Ray::new(self.eye + self.right * x + self.up * y, self.forward)
+            Ray::new(self.eye + self.right * x + self.up * y, self.forward).coherent()
         } else {
-            Ray::new(self.eye, (self.forward + self.right * x + self.up * y).normalize())
+            Ray::new(self.eye, (self.forward + self.right * x + self.up * y).normalize()).coherent()
         }
     }
 
@@ -116,10 +116,10 @@ impl CameraRig {
         if self.ortho {
             let o = self.eye + self.right * x + self.up * y;
             let focus = o + self.forward * self.focus_distance;
-            Ray::new(o + lens, (focus - (o + lens)).normalize())
+            Ray::new(o + lens, (focus - (o + lens)).normalize()).coherent()
         } else {
             let focus = (self.forward + self.right * x + self.up * y) * self.focus_distance;
-            Ray::new(self.eye + lens, (focus - lens).normalize())
+            Ray::new(self.eye + lens, (focus - lens).normalize()).coherent()
         }
     }
 

@@ -73,7 +73,13 @@ impl Scene {
                 return None;
             }
             t0 = dt;
-            r = Ray { origin: next.origin, dir: ray.dir, tmax: ray.tmax - t0, leaves: next.leaves };
+            r = Ray {
+                origin: next.origin,
+                dir: ray.dir,
+                tmax: ray.tmax - t0,
+                leaves: next.leaves,
+                coherent: ray.coherent,
+            };
         }
         None
     }

@@ -70,6 +70,24 @@ fn the_bvhs_avx_and_sse_box_tests_give_the_same_traversal_bit_for_bit() {
     assert!(wide.iter().filter(|a| a.0.is_some()).count() > wide.len() / 4, "too few hits: the test would be weak");
 }
 
+/// `Ray::coherent` is a hint (camera rays): the wide BVH then reads a leaf's surviving triangle through a branch on
+/// its lane, otherwise through a permute. Both must give every answer, and the work counted, bit for bit; on the
+/// bunny's camera, bounce and shadow rays, each traced with the hint and without.
+#[test]
+fn the_coherent_ray_hint_never_changes_an_answer() {
+    let app = setup_ron(&bunny_scene_text(), AccelKind::Bvh);
+    let s = scene(&app);
+    let camera = rays(s, 4000, 7);
+    let (bounce, shadow) = secondary_rays(s, &camera, 9);
+    let all: Vec<Ray> = camera.iter().chain(&bounce).chain(&shadow).copied().collect();
+    let plain: Vec<Ray> = all.iter().map(|r| Ray { coherent: false, ..*r }).collect();
+    let hinted: Vec<Ray> = all.iter().map(|r| r.coherent()).collect();
+    let (a, b) = (traversal_answers(s, &plain), traversal_answers(s, &hinted));
+    let differ = a.iter().zip(&b).filter(|(x, y)| x != y).count();
+    assert_eq!(differ, 0, "{differ} of {} rays answer differently with the hint", a.len());
+    assert!(a.iter().filter(|x| x.0.is_some()).count() > a.len() / 4, "too few hits: the test would be weak");
+}
+
 /// A BVH query starts with a 32-entry traversal stack (zeroing one sized for the tree's depth costs a `memset` on
 /// deep trees) and starts again with a full one when a node's children would overflow it: the answer, and the
 /// work counted, must not change. Forced here by a first stack of 8 entries, which every ray outgrows at the

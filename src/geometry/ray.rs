@@ -13,6 +13,11 @@ pub struct Ray {
     /// test from hitting it: skipping saves the work, never changes the answer). Analytic shapes are never
     /// skipped (a ray leaving a sphere from inside meets it again).
     pub leaves: u32,
+    /// A hint that the ray is one of a coherent set (camera rays: neighbours take nearly the same path through the
+    /// scene, as Embree's `RTC_RAY_QUERY_FLAG_COHERENT` says). Accelerators may pick code that is faster for such
+    /// rays — the wide BVH then reads a leaf's surviving triangle by a branch on its lane, which coherent rays
+    /// predict, instead of a permute, which costs incoherent ones less — never a different answer.
+    pub coherent: bool,
 }
 
 /// No primitive: [`Ray::leaves`] of camera rays and other rays that start off every surface.
@@ -21,18 +26,24 @@ pub const NO_PRIM: u32 = u32::MAX;
 impl Ray {
     #[inline]
     pub fn new(origin: Vec3A, dir: Vec3A) -> Self {
-        Ray { origin, dir, tmax: f32::INFINITY, leaves: NO_PRIM }
+        Ray { origin, dir, tmax: f32::INFINITY, leaves: NO_PRIM, coherent: false }
     }
 
     #[inline]
     pub fn with_tmax(origin: Vec3A, dir: Vec3A, tmax: f32) -> Self {
-        Ray { origin, dir, tmax, leaves: NO_PRIM }
+        Ray { origin, dir, tmax, leaves: NO_PRIM, coherent: false }
     }
 
     /// This ray, marked as leaving primitive `prim`.
     #[inline]
     pub fn leaving(self, prim: u32) -> Self {
         Ray { leaves: prim, ..self }
+    }
+
+    /// This ray, marked as one of a coherent set (see [`Ray::coherent`]).
+    #[inline]
+    pub fn coherent(self) -> Self {
+        Ray { coherent: true, ..self }
     }
 
     #[inline]

@@ -12,14 +12,21 @@
 //! -inf, which no ray meets.
 
 use super::{Node, WIDTH};
-use crate::geometry::{Ray, gamma};
-use core::arch::x86_64::{__m256, _CMP_EQ_OQ, _CMP_GT_OQ, _CMP_LE_OS};
+use crate::geometry::{Ray, TriPacket, TriSoa, gamma};
+use core::arch::x86_64::{__m128, __m256, _CMP_EQ_OQ, _CMP_GT_OQ, _CMP_LE_OS};
 use glam::{Vec3A, Vec4};
 use pulp::x86::V3;
 
 /// Entry distances of a node's children and the mask of those the ray meets within `(0, tmax)`.
 pub(super) trait BoxTest {
     fn test(&self, n: &Node, tmax: f32) -> ([f32; WIDTH], u32);
+
+    /// Triangle `lane` of a leaf packet in the form the exact kernel takes (glam's lane reads, which compile to
+    /// a jump on the lane number).
+    #[inline(always)]
+    fn packet_lane(&self, p: &TriPacket, lane: usize) -> TriSoa {
+        p.lane(lane)
+    }
 
     /// Where each child goes among the hit children pushed on the stack, counted from the bottom: child `i`
     /// (bit `i` of `mask`) has below it every hit child farther than it and every hit child as far and of lower
@@ -161,6 +168,20 @@ impl BoxTest for RayBoxes8 {
         );
         let mask = a._mm256_movemask_ps(a._mm256_cmp_ps::<_CMP_LE_OS>(tnear, tfar)) as u32;
         (pulp::cast(tnear), mask)
+    }
+
+    /// The same values as the default, without the jump: each coordinate's lane broadcast by a variable permute,
+    /// the three vertices' blended into one vector (whose fourth lane, like `Vec3A::new`'s, repeats the third).
+    #[inline(always)]
+    fn packet_lane(&self, p: &TriPacket, lane: usize) -> TriSoa {
+        let (a, blend) = (self.simd.avx, self.simd.sse4_1);
+        let idx = self.simd.sse2._mm_set1_epi32(lane as i32);
+        let gather = |c: usize| -> Vec3A {
+            let at = |v: Vec4| -> __m128 { a._mm_permutevar_ps(v.into(), idx) };
+            let xy = blend._mm_blend_ps::<0b0010>(at(p.v[0][c]), at(p.v[1][c]));
+            Vec3A::from(blend._mm_blend_ps::<0b1100>(xy, at(p.v[2][c])))
+        };
+        TriSoa { xs: gather(0), ys: gather(1), zs: gather(2) }
     }
 
     /// The same slots as the default, without branches: per child one broadcast and two compares against all eight

@@ -23,7 +23,9 @@
 //! 32-entry stack, which a query that would overflow it (rare) exchanges for one sized from the tree's depth by
 //! starting again; box tests are robust to axis-parallel rays (reciprocals clamped to +-1e25, -0 treated as +0)
 //! and conservative against rounding (the exit distance is scaled by `1 + 2 gamma(3)`, Ize 2013). Occlusion stops
-//! at the first hit.
+//! at the first hit. A leaf's triangles that survive the pre-filter are finished four at a time when two or more do
+//! (closest hit); a lone survivor is read from its packet by a permute, or by a branch on its lane for rays marked
+//! [`Ray::coherent`] (camera rays, which predict it).
 
 use super::work::{NoCount, TraversalWork, WorkCounter};
 use super::{AccelStats, Accelerator};
@@ -304,8 +306,9 @@ impl WideBvh {
     /// Test the leaf of child word `leaf` (without `LEAF_BIT`); returns true when `ANY` and something was hit.
     #[inline(always)]
     #[allow(clippy::too_many_arguments)]
-    fn test_leaf<const ANY: bool, C: WorkCounter>(
+    fn test_leaf<const ANY: bool, C: WorkCounter, B: BoxTest>(
         &self,
+        rb: &B,
         leaf: u32,
         prims: &Primitives,
         ray: &Ray,
@@ -341,7 +344,9 @@ impl WideBvh {
                     // The triangle the ray leaves cannot be hit again (see `Ray::leaves`): no exact test.
                     continue;
                 }
-                if let Some(h) = wt.intersect_soa(&p.tris.lane(lane), *end) {
+                // Coherent rays predict a branch on the lane; a permute costs the others less (`Ray::coherent`).
+                let tri = if ray.coherent { p.tris.lane(lane) } else { rb.packet_lane(&p.tris, lane) };
+                if let Some(h) = wt.intersect_soa(&tri, *end) {
                     *end = h.t;
                     *best = Some(Hit { t: h.t, prim: p.ids[lane], b1: h.b1, b2: h.b2 });
                     if ANY {
@@ -415,7 +420,7 @@ impl WideBvh {
         let mut cur = self.root;
         loop {
             if cur & LEAF_BIT != 0 {
-                if self.test_leaf::<ANY, C>(cur & !LEAF_BIT, prims, ray, &wt, &mut end, &mut best, counter) {
+                if self.test_leaf::<ANY, C, B>(rb, cur & !LEAF_BIT, prims, ray, &wt, &mut end, &mut best, counter) {
                     return Some(best);
                 }
             } else {
