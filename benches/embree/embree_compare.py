@@ -80,7 +80,8 @@ def ensure_embree(out):
             sys.exit("error: libembree-dev installed no <embree3/rtcore.h> or <embree4/rtcore.h>")
     src, exe = HERE / "embree_rays.c", out / "embree_rays"
     if not exe.exists() or exe.stat().st_mtime < src.stat().st_mtime:
-        log(f"building {exe.relative_to(ROOT)} against Embree {major} ...")
+        shown = exe.relative_to(ROOT) if exe.is_relative_to(ROOT) else exe  # `-o` may lie outside the repository
+        log(f"building {shown} against Embree {major} ...")
         flags = ["-DEMBREE4"] if major == 4 else []
         run(["gcc", "-O2", "-Wall", *flags, "-o", str(exe), str(src), f"-lembree{major}", "-lm"])
     return exe
