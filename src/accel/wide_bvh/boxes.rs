@@ -10,6 +10,10 @@
 //! The test is robust to axis-parallel rays (reciprocals clamped to +-1e25, -0 treated as +0) and conservative
 //! against rounding (the exit distance scaled by `1 + 2 gamma(3)`, Ize 2013); empty slots hold a box from +inf to
 //! -inf, which no ray meets.
+//!
+//! The same two types carry the traversal's other steps that have a faster form under AVX, each with the same
+//! result as the baseline's: the stack slots of a node's hit children (compares instead of an insertion's branches)
+//! and a leaf packet's lane (a permute instead of a jump on the lane number).
 
 use super::{Node, WIDTH};
 use crate::geometry::{Ray, TriPacket, TriSoa, gamma};
@@ -17,8 +21,9 @@ use core::arch::x86_64::{__m128, __m256, _CMP_EQ_OQ, _CMP_GT_OQ, _CMP_LE_OS};
 use glam::{Vec3A, Vec4};
 use pulp::x86::V3;
 
-/// Entry distances of a node's children and the mask of those the ray meets within `(0, tmax)`.
+/// One ray's SIMD steps of the traversal: above all the box test, and the steps with a faster form under AVX.
 pub(super) trait BoxTest {
+    /// Entry distances of a node's children and the mask of those the ray meets within `(0, tmax)`.
     fn test(&self, n: &Node, tmax: f32) -> ([f32; WIDTH], u32);
 
     /// Triangle `lane` of a leaf packet in the form the exact kernel takes (glam's lane reads, which compile to
