@@ -176,7 +176,7 @@ impl BoxTest for RayBoxes8 {
     }
 
     /// The same values as the default, without the jump: each coordinate's lane broadcast by a variable permute,
-    /// the three vertices' blended into one vector (whose fourth lane, like `Vec3A::new`'s, repeats the third).
+    /// the three vertices' values blended into one vector (whose fourth lane, like `Vec3A::new`'s, repeats the third).
     #[inline(always)]
     fn packet_lane(&self, p: &TriPacket, lane: usize) -> TriSoa {
         let (a, blend) = (self.simd.avx, self.simd.sse4_1);
