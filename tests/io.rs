@@ -234,6 +234,48 @@ fn compare_reports_metrics_and_rejects_mismatched_sizes() {
     assert_error(o.status.success(), &String::from_utf8_lossy(&o.stderr), &["junk.exr"]);
 }
 
+/// Where the squared error lies: noise of equal size everywhere puts exactly the fraction f of it in any fraction f
+/// of the pixels; one outlier holding half of it shows as half in the worst 0.1%; equal images report 0. The
+/// command line prints the shares and adds them to its JSON.
+#[test]
+fn error_concentration_reports_the_share_of_squared_error_in_the_worst_pixels() {
+    use prism::compare::error_concentration;
+    use prism::io::Image;
+    let (w, h) = (100u32, 100u32);
+    let reference = Image::new(w, h, vec![glam::Vec3::splat(0.5); (w * h) as usize]);
+    let even = Image::new(w, h, vec![glam::Vec3::splat(0.51); (w * h) as usize]);
+    let shares = error_concentration(&even, &reference).unwrap();
+    for (share, f) in shares.iter().zip(prism::compare::TOP_FRACTIONS) {
+        assert!((share - f).abs() < 1e-9, "even noise: {share} in the worst {f}");
+    }
+    // One pixel off by 1 in every channel, the rest by 0.01: the outlier holds 3 / (3 + 9999 * 3e-4) of it.
+    let mut outlier = even.clone();
+    outlier.pixels[4321] = glam::Vec3::splat(1.5);
+    let shares = error_concentration(&outlier, &reference).unwrap();
+    let d = |v: f32| ((v - 0.5) as f64).powi(2) * 3.0;
+    let (big, small) = (d(1.5), d(0.51));
+    let total = big + 9999.0 * small;
+    for (share, k) in shares.iter().zip([10.0, 100.0, 1000.0]) {
+        let expect = (big + (k - 1.0) * small) / total;
+        assert!((share - expect).abs() < 1e-9, "outlier: {share} vs {expect} in the worst {k} pixels");
+    }
+    assert_eq!(error_concentration(&reference, &reference).unwrap(), [0.0; 3]);
+    let small_image = Image::new(2, 2, vec![glam::Vec3::ZERO; 4]);
+    assert!(error_concentration(&small_image, &reference).is_err(), "sizes differ");
+
+    let dir = scratch("concentration");
+    let (a, b) = (dir.join("a.exr"), dir.join("b.exr"));
+    prism::io::write_exr(&a, &outlier).unwrap();
+    prism::io::write_exr(&b, &reference).unwrap();
+    let o = prism(&["compare", a.to_str().unwrap(), b.to_str().unwrap()]);
+    assert!(o.status.success());
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(text.contains("worst 0.1% / 1% / 10% of pixels: 50.0% / 50.5% / 55.0%"), "{text}");
+    let o = prism(&["compare", a.to_str().unwrap(), b.to_str().unwrap(), "--json"]);
+    let json = String::from_utf8_lossy(&o.stdout);
+    assert!(json.trim_end().ends_with("}}") && json.contains("\"top_pixel_share\": {\"0.001\": 0.50"), "{json}");
+}
+
 /// Determinism of the output file, not only of its pixels: an EXR's blocks are compressed in parallel, and in the
 /// exr crate's default (unspecified) line order they are stored in the order their compression finishes, so the
 /// same image gave different bytes from run to run. Prism writes them in increasing-y order: the header says so,
