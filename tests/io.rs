@@ -246,7 +246,7 @@ fn error_concentration_reports_the_share_of_squared_error_in_the_worst_pixels() 
     let even = Image::new(w, h, vec![glam::Vec3::splat(0.51); (w * h) as usize]);
     let shares = error_concentration(&even, &reference).unwrap();
     for (share, f) in shares.iter().zip(prism::compare::TOP_FRACTIONS) {
-        assert!((share - f).abs() < 1e-9, "even noise: {share} in the worst {f}");
+        assert!((share - f).abs() < 1e-6, "even noise: {share} in the worst {f}");
     }
     // One pixel off by 1 in every channel, the rest by 0.01: the outlier holds 3 / (3 + 9999 * 3e-4) of it.
     let mut outlier = even.clone();
@@ -257,7 +257,8 @@ fn error_concentration_reports_the_share_of_squared_error_in_the_worst_pixels() 
     let total = big + 9999.0 * small;
     for (share, k) in shares.iter().zip([10.0, 100.0, 1000.0]) {
         let expect = (big + (k - 1.0) * small) / total;
-        assert!((share - expect).abs() < 1e-9, "outlier: {share} vs {expect} in the worst {k} pixels");
+        // Per-pixel errors are kept as f32: shares to about 1e-7.
+        assert!((share - expect).abs() < 1e-6, "outlier: {share} vs {expect} in the worst {k} pixels");
     }
     assert_eq!(error_concentration(&reference, &reference).unwrap(), [0.0; 3]);
     let small_image = Image::new(2, 2, vec![glam::Vec3::ZERO; 4]);
