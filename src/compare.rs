@@ -80,8 +80,8 @@ pub fn compare(test: &Image, reference: &Image) -> Result<Metrics> {
 pub const TOP_FRACTIONS: [f64; 3] = [0.001, 0.01, 0.1];
 
 /// The share of the squared error (summed over RGB) held by the worst [`TOP_FRACTIONS`] of the pixels, each in
-/// [0, 1] (a fraction of at least one pixel, rounded up); 0 where the images are equal, NaN where an error is not
-/// finite.
+/// [0, 1] (a fraction of at least one pixel, rounded up); 0 where the images are equal, NaN where a pixel's squared
+/// error is not finite as an f32 (a difference beyond about 1e19).
 pub fn error_concentration(test: &Image, reference: &Image) -> Result<[f64; 3]> {
     if (test.width, test.height) != (reference.width, reference.height) {
         return Err(PrismError::invalid(format!(
