@@ -23,9 +23,11 @@ pub struct Metrics {
 }
 
 impl Metrics {
-    /// One JSON object: `{"rmse": .., "relmse": .., "mae": .., "mean_test": [r, g, b], "mean_reference": [r, g, b]}`.
-    /// JSON has no infinity or NaN: a metric that is not finite (images with infinite or NaN pixels) is `null`.
-    pub fn to_json(&self) -> String {
+    /// One JSON object: `{"rmse": .., "relmse": .., "mae": .., "mean_test": [r, g, b], "mean_reference": [r, g, b]}`,
+    /// with `"top_pixel_share": {"0.001": .., "0.01": .., "0.1": ..}` added when `top` holds the
+    /// [`error_concentration`] of the same images. JSON has no infinity or NaN: a value that is not finite (images
+    /// with infinite or NaN pixels) is `null`.
+    pub fn to_json(&self, top: Option<[f64; 3]>) -> String {
         struct Num(f64);
         impl std::fmt::Display for Num {
             fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
@@ -34,13 +36,22 @@ impl Metrics {
         }
         let v = |a: [f64; 3]| format!("[{}, {}, {}]", Num(a[0]), Num(a[1]), Num(a[2]));
         let (rmse, relmse, mae) = (Num(self.rmse), Num(self.relmse), Num(self.mae));
+        let shares = match top {
+            Some(t) => {
+                let pairs: Vec<String> =
+                    TOP_FRACTIONS.iter().zip(t).map(|(f, s)| format!("\"{f}\": {}", Num(s))).collect();
+                format!(", \"top_pixel_share\": {{{}}}", pairs.join(", "))
+            }
+            None => String::new(),
+        };
         format!(
-            "{{\"rmse\": {}, \"relmse\": {}, \"mae\": {}, \"mean_test\": {}, \"mean_reference\": {}}}",
+            "{{\"rmse\": {}, \"relmse\": {}, \"mae\": {}, \"mean_test\": {}, \"mean_reference\": {}{}}}",
             rmse,
             relmse,
             mae,
             v(self.mean_test),
-            v(self.mean_reference)
+            v(self.mean_reference),
+            shares
         )
     }
 }

@@ -1,7 +1,7 @@
 //! `prism compare TEST REF [--json]`: the metrics of `compare.rs`, and where the squared error lies (the share of
 //! it in the worst 0.1%, 1% and 10% of the pixels).
 
-use crate::compare::{TOP_FRACTIONS, compare, error_concentration};
+use crate::compare::{compare, error_concentration};
 use crate::io::read_image;
 use std::path::Path;
 
@@ -11,11 +11,7 @@ pub fn run(test: &Path, reference: &Path, json: bool) -> anyhow::Result<()> {
     let m = compare(&a, &b)?;
     let top = error_concentration(&a, &b)?;
     let text = if json {
-        let num = |v: f64| if v.is_finite() { format!("{v}") } else { "null".to_string() };
-        let shares: Vec<String> = TOP_FRACTIONS.iter().zip(top).map(|(f, s)| format!("\"{f}\": {}", num(s))).collect();
-        // The metrics object with the shares added as one more field.
-        let base = m.to_json();
-        format!("{}, \"top_pixel_share\": {{{}}}}}\n", &base[..base.len() - 1], shares.join(", "))
+        format!("{}\n", m.to_json(Some(top)))
     } else {
         let pct = |v: f64| if v.is_finite() { format!("{:.1}%", 100.0 * v) } else { "n/a".to_string() };
         let v = |a: [f64; 3]| format!("({:.6}, {:.6}, {:.6})", a[0], a[1], a[2]);
