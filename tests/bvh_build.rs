@@ -1,5 +1,5 @@
-//! The wide BVH's build: two candidate trees (PLOC's and a top-down binned-SAH tree), each answering every ray as
-//! brute force does, and the one of lower surface-area cost kept.
+//! The wide BVH's build: two candidate trees (PLOC's and a top-down binned-SAH tree with spatial splits), each
+//! answering every ray as brute force does, and the one of lower surface-area cost kept.
 
 use crate::accel::{assert_matches_brute, bunny_scene_text, rays, scene, setup_file, setup_ron};
 use prism::accel::ray_sets::secondary_rays;
@@ -48,4 +48,55 @@ fn the_cornell_box_keeps_the_tree_with_a_leaf_per_wall() {
     let [ploc, sah] = [BvhCandidate::Ploc, BvhCandidate::Sah].map(|c| WideBvh::build_candidate(prims, c).sah_cost());
     assert!(ploc < sah, "PLOC {ploc}, SAH {sah}");
     assert_eq!(WideBvh::build(prims).sah_cost(), ploc);
+}
+
+/// Spatial splits (SBVH): a pile of long, thin, slanted triangles (sticks crossing each other in every direction, a
+/// case whose boxes overlap badly) beside the bunny. The SAH candidate splits the sticks — some are referenced in
+/// more than one leaf, each reference's box clipped to its part — and it still answers every ray as brute force
+/// does: the shared random rays, and rays aimed at exact points of the sticks (barycentric), whose hits fall on and
+/// around the faces of the clipped boxes. A clipped box that lost a sliver of its triangle would miss those hits.
+#[test]
+fn spatial_splits_reference_long_triangles_in_several_leaves_and_match_brute_force() {
+    use glam::Vec3A;
+    use prism::geometry::Ray;
+    use prism::sampling::Rng;
+    let mut rng = Rng::new(7, 0);
+    let mut sticks = String::new();
+    for _ in 0..400 {
+        let p = |rng: &mut Rng| Vec3A::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) * 4.0 - 2.0;
+        let (a, b) = (p(&mut rng), p(&mut rng));
+        let c = a + (Vec3A::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) - 0.5) * 0.08;
+        sticks += &format!(
+            "(shape: Triangle(vertices: (({}, {}, {}), ({}, {}, {}), ({}, {}, {})))),\n",
+            a.x, a.y, a.z, b.x, b.y, b.z, c.x, c.y, c.z
+        );
+    }
+    let text = bunny_scene_text().replacen("entities: [", &format!("entities: [\n{sticks}"), 1);
+    let truth_app = setup_ron(&text, AccelKind::Brute);
+    let truth = scene(&truth_app);
+    let mut all = rays(truth, 3000, 47);
+    let tris = &truth.prims.tris;
+    for i in 0..3000u32 {
+        let t = tris[(i as usize * 7919) % tris.len()];
+        let (u, v) = (rng.next_f32(), rng.next_f32());
+        let (u, v) = if u + v > 1.0 { (1.0 - u, 1.0 - v) } else { (u, v) };
+        let target = t[0] + (t[1] - t[0]) * u + (t[2] - t[0]) * v;
+        let o = target + prism::sampling::warp::uniform_sphere(rng.next_2d()) * 5.0;
+        all.push(Ray::new(o, (target - o).normalize()));
+    }
+    let mut app = setup_ron(&text, AccelKind::Bvh);
+    let s = app.resources.scene.as_mut().expect("a scene");
+    let n = s.prims.num_bounded() as usize;
+    let bvh = WideBvh::build_candidate(&s.prims, BvhCandidate::Sah);
+    let references = bvh.references();
+    eprintln!("{n} primitives, {references} references in the SAH tree with spatial splits");
+    assert!(references > n + 50, "spatial splits should duplicate some of the 400 sticks: {references} references");
+    assert!(references <= n + n / 2, "the reference budget is half the primitive count: {references}");
+    // Subtrees are built in parallel with budgets fixed by their sizes: the same tree on one thread.
+    let one = rayon::ThreadPoolBuilder::new().num_threads(1).build().expect("a pool");
+    let alone = one.install(|| WideBvh::build_candidate(&s.prims, BvhCandidate::Sah));
+    assert_eq!((alone.references(), alone.sah_cost().to_bits()), (references, bvh.sah_cost().to_bits()));
+    s.accel = Accel::Bvh(bvh);
+    let hits = assert_matches_brute("SBVH", scene(&app), truth, &all);
+    assert!(hits > all.len() / 2, "only {hits} of {} rays hit: the test would be weak", all.len());
 }

@@ -1,6 +1,5 @@
-//! Top-down BVH2 builders: binned SAH over the primitives' centroids, built iteratively.
-//!
-//! Two uses, one algorithm with two binnings ([`Binning`]):
+//! A top-down BVH2 builder for inputs that make PLOC degenerate: binned SAH over the primitives' centroids, built
+//! iteratively. (The wide BVH's second candidate tree, binned SAH with spatial splits, is `bvh_spatial`.)
 //!
 //! - **Inputs that make PLOC degenerate** ([`Binning::FALLBACK`]). PLOC merges mutual nearest neighbours in Morton
 //!   order. When many primitives share one Morton cell (identical or concentric primitives: an OBJ with 50000 copies
@@ -8,8 +7,6 @@
 //!   into a chain as deep as the group, which overflows the recursive CWBVH conversion. [`needs_fallback`] detects
 //!   such groups (more than [`MAX_CELL_GROUP`] primitives in one cell of the 2^21-per-axis Morton grid over the
 //!   centroids); the tree is then built here with 12 bins on the longest axis.
-//! - **The wide BVH's second candidate tree** ([`Binning::FULL`]: 32 bins on each of the three axes, the cheapest
-//!   split of all), which on meshes of uniform triangles is cheaper to traverse than PLOC's (see `wide_bvh`).
 //!
 //! Either way an object median split is taken when the centroids coincide or SAH cannot separate them, and median
 //! splits below depth 48, so the tree is at most `48 + log2(N)` deep and the build is O(N log N) on any input. One
@@ -23,19 +20,16 @@ use rayon::prelude::*;
 /// Largest group of primitives in one Morton cell that PLOC is left to handle (its cost is quadratic in it).
 pub const MAX_CELL_GROUP: usize = 256;
 
-/// How a node's split is searched: `bins` equal bins of the centroids' extent (at most [`MAX_BINS`]), on every
-/// axis or only on the longest.
+/// How a node's split is searched: `bins` equal bins of the centroids' extent along their longest axis (at most
+/// [`MAX_BINS`]).
 #[derive(Clone, Copy, Debug)]
 pub struct Binning {
     pub bins: usize,
-    pub all_axes: bool,
 }
 
 impl Binning {
     /// The degenerate-input build: 12 bins on the longest axis.
-    pub const FALLBACK: Binning = Binning { bins: 12, all_axes: false };
-    /// The quality build: 32 bins on each axis.
-    pub const FULL: Binning = Binning { bins: 32, all_axes: true };
+    pub const FALLBACK: Binning = Binning { bins: 12 };
 }
 
 const MAX_BINS: usize = 32;
@@ -118,9 +112,8 @@ fn split(ids: &mut [u32], centre: &[glam::Vec3A], aabbs: &[Aabb], depth: usize, 
         let (lo, extent) = (cb.min[axis], cb.max[axis] - cb.min[axis]);
         (((centre[i as usize][axis] - lo) / extent * nb as f32) as usize).min(nb - 1)
     };
-    let axes: &[usize] = if binning.all_axes { &[0, 1, 2] } else { std::slice::from_ref(&longest) };
     let (mut best, mut best_cost) = (None, f32::INFINITY);
-    for &axis in axes {
+    for axis in [longest] {
         let extent = cb.max[axis] - cb.min[axis];
         if !(extent > 0.0 && extent.is_finite()) {
             continue;

@@ -18,6 +18,7 @@
 pub mod bench;
 mod brute;
 mod bvh;
+mod bvh_spatial;
 mod bvh_topdown;
 mod clip;
 pub mod grid;

@@ -121,8 +121,9 @@ pub struct WideBvh {
 }
 
 impl WideBvh {
-    /// The wide BVH over `prims`: of the two candidate trees (PLOC's and a binned-SAH top-down build), the one
-    /// cheaper to traverse by the surface-area cost (`build.rs`); the top-down build alone for degenerate input.
+    /// The wide BVH over `prims`: of the two candidate trees (PLOC's and a binned-SAH top-down build with spatial
+    /// splits), the one cheaper to traverse by the surface-area cost (`build.rs`); the top-down build alone for
+    /// degenerate input.
     pub fn build(prims: &Primitives) -> Self {
         build::build(prims, None)
     }
@@ -130,6 +131,12 @@ impl WideBvh {
     /// The tree of one candidate build (for tests and comparisons; `build` picks the cheaper).
     pub fn build_candidate(prims: &Primitives, candidate: Candidate) -> Self {
         build::build(prims, Some(candidate))
+    }
+
+    /// Primitive references in the leaves: the primitive count, plus the extra references of triangles that spatial
+    /// splits put in more than one leaf.
+    pub fn references(&self) -> usize {
+        self.packets.iter().map(|p| (p.tri_lanes | p.other_lanes).count_ones() as usize).sum()
     }
 
     /// An empty tree.
@@ -204,6 +211,14 @@ impl WideBvh {
 
     /// Pack primitives `ids` into a new leaf; returns the leaf's child slot. `aabbs`: the primitives' padded boxes.
     fn add_leaf_ids(&mut self, ids: &[u32], prims: &Primitives, aabbs: &[Aabb]) -> u32 {
+        // A primitive split by a spatial split may reach one leaf twice (two leaves of its halves merged): once.
+        let mut unique = Vec::with_capacity(ids.len());
+        for &id in ids {
+            if !unique.contains(&id) {
+                unique.push(id);
+            }
+        }
+        let ids = &unique[..];
         let nt = prims.num_tris();
         let (axis, lo, hi) = leaf_slab(ids, prims, aabbs);
         let (mut ordered, others): (Vec<u32>, Vec<u32>) = ids.iter().partition(|&&id| id < nt);

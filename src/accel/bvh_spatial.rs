@@ -1,0 +1,362 @@
+//! A top-down BVH2 with spatial splits (SBVH; Stich, Friedrich & Dietrich, "Spatial Splits in Bounding Volume
+//! Hierarchies", HPG 2009): the binned SAH of `bvh_topdown` over the references' centroids, and beside it, where
+//! the two children of the best such split overlap by more than [`OVERLAP_ALPHA`] of the root's area, a split of
+//! space: a plane through the node's box at one of [`SPATIAL_BINS`] bin boundaries per axis, every triangle that
+//! straddles it referenced on both sides with its box clipped to the triangle's part on that side (the binning
+//! clips each reference to every bin it spans, exactly: boxes merely chopped at the planes gave a tree with 1%
+//! more node tests per ray). The cheaper of the two by SAH is taken. Long or slanted triangles no longer stretch a
+//! node's box across space they do not occupy, so rays test fewer boxes and triangles.
+//!
+//! Parameters: [`SPATIAL_BINS`] bins per axis, [`OVERLAP_ALPHA`] (Stich's alpha), and a budget of at most
+//! [`REFERENCE_BUDGET`] x the primitive count in extra references (duplicated triangles), spent top-down
+//! first-come. Shapes other than triangles are never split: they go whole to one side by their centroid.
+//!
+//! Correctness: a triangle's part inside a node's box is covered by the union of its references' boxes in the
+//! children (the clipped boxes of its two halves, closed at the plane), and every clipped box is padded as the
+//! primitives' boxes are (`padded_prim_aabbs`), so the robust box test finds every hit. A leaf may reference a
+//! triangle that also lies in another leaf; the triangle test is the same kernel, so the hit is the same wherever
+//! it is found. One reference per leaf, as `bvh_topdown` (the wide BVH collapses leaves afterwards).
+
+use glam::Vec3A;
+use obvhs::aabb::Aabb;
+use obvhs::bvh2::Bvh2;
+use obvhs::bvh2::node::Bvh2Node;
+
+/// Bins per axis of the spatial split search (and of the object split's centroid binning).
+pub const SPATIAL_BINS: usize = 32;
+/// A spatial split is searched only where the best object split's children overlap by more than this share of the
+/// root's surface area (Stich et al.'s alpha). Measured on the dragon (100k triangles; nodes and triangle lanes
+/// per bounce ray, build time on one thread): no spatial splits 9.23 / 14.34, 110 ms for both candidates; alpha
+/// 1e-5: 8.64 / 13.79, 790 ms; 1e-4: 8.64 / 13.87, 475 ms; **1e-3: 8.66 / 13.93, 300 ms**; 1e-2: 8.78 / 14.15.
+pub const OVERLAP_ALPHA: f32 = 1e-3;
+/// Most extra references, as a share of the primitive count (memory stays within 1.5x whatever the input). The
+/// dragon uses about 12% (0.1: 8.73 / 14.02 per bounce ray; 0.25 to 1: the same as 0.5).
+pub const REFERENCE_BUDGET: f32 = 0.5;
+/// Below this depth every split is a median split of the centroids (bounds the tree's depth on any input).
+const SAH_DEPTH: usize = 48;
+
+/// One reference: a primitive and the box of its part in the current node.
+#[derive(Clone, Copy, Debug)]
+struct Ref {
+    id: u32,
+    b: Aabb,
+}
+
+/// A BVH2 over primitives with padded boxes `aabbs`, of which the first `tris.len()` are the triangles `tris`
+/// (node 0 the root, children in adjacent pairs, one reference per leaf; `primitive_indices` may name a triangle
+/// more than once). Subtrees of more than [`PARALLEL_REFS`] references are built in parallel; each child's share
+/// of the budget is fixed by its reference count, so the tree does not depend on the thread count.
+pub fn build_sbvh2(aabbs: &[Aabb], tris: &[[Vec3A; 3]]) -> Bvh2 {
+    let n = aabbs.len();
+    let refs: Vec<Ref> = aabbs.iter().enumerate().map(|(i, b)| Ref { id: i as u32, b: *b }).collect();
+    let root_area = refs.iter().fold(Aabb::empty(), |a, r| a.union(&r.b)).half_area();
+    let ctx = Ctx { aabbs, tris, root_area };
+    let t = ctx.subtree(refs, 0, (n as f32 * REFERENCE_BUDGET) as usize);
+    Bvh2 {
+        nodes: t.nodes,
+        primitive_indices: t.indices,
+        max_depth: obvhs::bvh2::DEFAULT_MAX_STACK_DEPTH.max(t.depth + 1),
+        ..Default::default()
+    }
+}
+
+/// Subtrees with more references than this are built with their sibling in parallel.
+const PARALLEL_REFS: usize = 4096;
+
+/// What every node's split reads.
+struct Ctx<'a> {
+    aabbs: &'a [Aabb],
+    tris: &'a [[Vec3A; 3]],
+    root_area: f32,
+}
+
+/// A built subtree: its nodes (its root first, children in adjacent pairs, indices local), its leaves' references
+/// and its depth below its root.
+struct Subtree {
+    nodes: Vec<Bvh2Node>,
+    indices: Vec<u32>,
+    depth: usize,
+}
+
+impl Ctx<'_> {
+    fn subtree(&self, mut refs: Vec<Ref>, depth: usize, budget: usize) -> Subtree {
+        let bounds = refs.iter().fold(Aabb::empty(), |a, r| a.union(&r.b));
+        if refs.len() == 1 {
+            return Subtree { nodes: vec![Bvh2Node::new(bounds, 1, 0)], indices: vec![refs[0].id], depth: 0 };
+        }
+        let mut left_budget = budget;
+        let right = split(&mut refs, &bounds, self, depth, &mut left_budget);
+        // The budget left after this split, shared in proportion to the references on each side.
+        let share = (left_budget as f64 * refs.len() as f64 / (refs.len() + right.len()) as f64) as usize;
+        let (lb, rb) = (share, left_budget - share);
+        let (l, r) = if refs.len() + right.len() > PARALLEL_REFS {
+            rayon::join(|| self.subtree(refs, depth + 1, lb), || self.subtree(right, depth + 1, rb))
+        } else {
+            (self.subtree(refs, depth + 1, lb), self.subtree(right, depth + 1, rb))
+        };
+        join_subtrees(bounds, l, r)
+    }
+}
+
+/// One subtree of root `bounds` over children `l` and `r`: the root, the children's roots as its pair, then the
+/// rest of `l`'s nodes and of `r`'s, their child and leaf indices moved along.
+fn join_subtrees(bounds: Aabb, l: Subtree, r: Subtree) -> Subtree {
+    let (nl, il) = (l.nodes.len(), l.indices.len() as u32);
+    // Where node i of a child goes: its root to 1 or 2, the rest after the pair.
+    let place_l = |i: usize| if i == 0 { 1 } else { i + 2 };
+    let place_r = |i: usize| if i == 0 { 2 } else { i + nl + 1 };
+    let mut nodes = vec![Bvh2Node::new(bounds, 0, 1); l.nodes.len() + r.nodes.len() + 1];
+    for (sub, place, leaf_offset) in
+        [(&l, &place_l as &dyn Fn(usize) -> usize, 0), (&r, &place_r as &dyn Fn(usize) -> usize, il)]
+    {
+        for (i, nd) in sub.nodes.iter().enumerate() {
+            let mut nd = *nd;
+            nd.first_index =
+                if nd.prim_count > 0 { nd.first_index + leaf_offset } else { place(nd.first_index as usize) as u32 };
+            nodes[place(i)] = nd;
+        }
+    }
+    let mut indices = l.indices;
+    indices.extend(r.indices);
+    Subtree { nodes, indices, depth: 1 + l.depth.max(r.depth) }
+}
+
+/// Split `refs` (at least 2, bounds `bounds`): `refs` keeps the left part and the right part is returned, both
+/// non-empty.
+fn split(refs: &mut Vec<Ref>, bounds: &Aabb, ctx: &Ctx, depth: usize, budget: &mut usize) -> Vec<Ref> {
+    let (aabbs, tris, root_area) = (ctx.aabbs, ctx.tris, ctx.root_area);
+    let cb = refs.iter().fold(Aabb::empty(), |a, r| a.union(&Aabb::new(r.b.center(), r.b.center())));
+    if depth >= SAH_DEPTH || refs.len() <= 4 {
+        return median_split(refs, &cb);
+    }
+    let object = best_object_split(refs, &cb);
+    let spatial = match &object {
+        Some(o) if *budget > 0 && o.overlap > OVERLAP_ALPHA * root_area => best_spatial_split(refs, bounds, tris),
+        None if *budget > 0 => best_spatial_split(refs, bounds, tris),
+        _ => None,
+    };
+    if let Some(s) = spatial
+        && object.as_ref().is_none_or(|o| s.cost < o.cost)
+    {
+        let (left, right) = partition_spatial(refs, &s, aabbs, tris);
+        let extra = (left.len() + right.len()).saturating_sub(refs.len());
+        if !left.is_empty() && !right.is_empty() && extra <= *budget {
+            *budget -= extra;
+            *refs = left;
+            return right;
+        }
+    }
+    let Some(o) = object else {
+        return median_split(refs, &cb);
+    };
+    let (lo, extent) = (cb.min[o.axis], cb.max[o.axis] - cb.min[o.axis]);
+    let (left, right): (Vec<Ref>, Vec<Ref>) =
+        refs.iter().partition(|r| centroid_bin(r.b.center()[o.axis], lo, extent) <= o.bin);
+    if left.is_empty() || right.is_empty() {
+        return median_split(refs, &cb);
+    }
+    *refs = left;
+    right
+}
+
+/// The median split of the centroids along their longest axis.
+fn median_split(refs: &mut Vec<Ref>, cb: &Aabb) -> Vec<Ref> {
+    let axis = cb.largest_axis();
+    let m = refs.len() / 2;
+    refs.select_nth_unstable_by(m, |a, b| a.b.center()[axis].total_cmp(&b.b.center()[axis]));
+    refs.split_off(m)
+}
+
+/// The bin of centroid coordinate `c` among [`SPATIAL_BINS`] over `[lo, lo + extent]`.
+fn centroid_bin(c: f32, lo: f32, extent: f32) -> usize {
+    (((c - lo) / extent * SPATIAL_BINS as f32) as usize).min(SPATIAL_BINS - 1)
+}
+
+/// The best binned-SAH split of the centroids: its cost, axis, last left bin and its children's overlap area.
+struct ObjectSplit {
+    cost: f32,
+    axis: usize,
+    bin: usize,
+    overlap: f32,
+}
+
+fn best_object_split(refs: &[Ref], cb: &Aabb) -> Option<ObjectSplit> {
+    let mut best: Option<ObjectSplit> = None;
+    for axis in 0..3 {
+        let (lo, extent) = (cb.min[axis], cb.max[axis] - cb.min[axis]);
+        if !(extent > 0.0 && extent.is_finite()) {
+            continue;
+        }
+        let mut bins = [(Aabb::empty(), 0usize); SPATIAL_BINS];
+        for r in refs {
+            let b = &mut bins[centroid_bin(r.b.center()[axis], lo, extent)];
+            b.0 = b.0.union(&r.b);
+            b.1 += 1;
+        }
+        let mut right = [(Aabb::empty(), 0usize); SPATIAL_BINS];
+        let mut acc = (Aabb::empty(), 0usize);
+        for k in (1..SPATIAL_BINS).rev() {
+            acc = (acc.0.union(&bins[k].0), acc.1 + bins[k].1);
+            right[k] = acc;
+        }
+        let mut left = (Aabb::empty(), 0usize);
+        for k in 0..SPATIAL_BINS - 1 {
+            left = (left.0.union(&bins[k].0), left.1 + bins[k].1);
+            let r = right[k + 1];
+            if left.1 == 0 || r.1 == 0 {
+                continue;
+            }
+            let cost = left.0.half_area() * left.1 as f32 + r.0.half_area() * r.1 as f32;
+            if best.as_ref().is_none_or(|b| cost < b.cost) {
+                let overlap = intersection(&left.0, &r.0).map_or(0.0, |o| o.half_area());
+                best = Some(ObjectSplit { cost, axis, bin: k, overlap });
+            }
+        }
+    }
+    best
+}
+
+/// The common part of two boxes, if any.
+fn intersection(a: &Aabb, b: &Aabb) -> Option<Aabb> {
+    let (min, max) = (a.min.max(b.min), a.max.min(b.max));
+    min.cmple(max).all().then(|| Aabb::new(min, max))
+}
+
+/// The best spatial split: its cost, axis and plane.
+struct SpatialSplit {
+    cost: f32,
+    axis: usize,
+    plane: f32,
+}
+
+fn best_spatial_split(refs: &[Ref], bounds: &Aabb, tris: &[[Vec3A; 3]]) -> Option<SpatialSplit> {
+    let nb = SPATIAL_BINS;
+    let mut best: Option<SpatialSplit> = None;
+    for axis in 0..3 {
+        let (lo, extent) = (bounds.min[axis], bounds.max[axis] - bounds.min[axis]);
+        if !(extent > 0.0 && extent.is_finite()) {
+            continue;
+        }
+        let plane = |k: usize| lo + extent * (k as f32 / nb as f32);
+        let bin = |x: f32| (((x - lo) / extent * nb as f32) as usize).min(nb - 1);
+        // Per bin: the box of the references' parts in it, how many references start and end in it.
+        let mut bins = [(Aabb::empty(), 0usize, 0usize); SPATIAL_BINS];
+        for r in refs {
+            let (first, last) = if (r.id as usize) < tris.len() {
+                (bin(r.b.min[axis]), bin(r.b.max[axis]))
+            } else {
+                let c = bin(r.b.center()[axis]);
+                (c, c)
+            };
+            if first == last {
+                bins[first].0 = bins[first].0.union(&r.b);
+            } else {
+                let tri = &tris[r.id as usize];
+                for (k, b) in bins.iter_mut().enumerate().take(last + 1).skip(first) {
+                    let mut slab = r.b;
+                    slab.min[axis] = slab.min[axis].max(plane(k));
+                    slab.max[axis] = slab.max[axis].min(plane(k + 1));
+                    if let Some(part) = slab_part(tri, axis, plane(k), plane(k + 1), &slab) {
+                        b.0 = b.0.union(&part);
+                    }
+                }
+            }
+            bins[first].1 += 1;
+            bins[last].2 += 1;
+        }
+        let mut right = [(Aabb::empty(), 0usize); SPATIAL_BINS];
+        let mut acc = (Aabb::empty(), 0usize);
+        for k in (1..nb).rev() {
+            acc = (acc.0.union(&bins[k].0), acc.1 + bins[k].2);
+            right[k] = acc;
+        }
+        let mut left = (Aabb::empty(), 0usize);
+        for k in 0..nb - 1 {
+            left = (left.0.union(&bins[k].0), left.1 + bins[k].1);
+            let r = right[k + 1];
+            if left.1 == 0 || r.1 == 0 {
+                continue;
+            }
+            let cost = left.0.half_area() * left.1 as f32 + r.0.half_area() * r.1 as f32;
+            if best.as_ref().is_none_or(|b| cost < b.cost) {
+                best = Some(SpatialSplit { cost, axis, plane: plane(k + 1) });
+            }
+        }
+    }
+    best
+}
+
+/// The padded box of the part of `tri` with coordinate `axis` in `[lo, hi]`, kept inside `within` (the
+/// reference's own box cut to the slab; the box of the part of the whole triangle, clamped to it, holds the part
+/// of the reference's piece), or `None` if the triangle has no such part. The part is a convex polygon whose
+/// corners are the triangle's corners in the slab and its edges' crossings of the two planes (the crossings' own
+/// coordinate set to the plane exactly); its box is padded as `padded_prim_aabbs` pads a primitive's, which covers
+/// the rounding of the crossings' other coordinates and of the ray–box test.
+fn slab_part(tri: &[Vec3A; 3], axis: usize, lo: f32, hi: f32, within: &Aabb) -> Option<Aabb> {
+    let (mut min, mut max) = (Vec3A::INFINITY, Vec3A::NEG_INFINITY);
+    for (i, &p) in tri.iter().enumerate() {
+        if p[axis] >= lo && p[axis] <= hi {
+            (min, max) = (min.min(p), max.max(p));
+        }
+        let q = tri[(i + 1) % 3];
+        for plane in [lo, hi] {
+            if (p[axis] < plane && q[axis] > plane) || (p[axis] > plane && q[axis] < plane) {
+                let mut x = p + (q - p) * ((plane - p[axis]) / (q[axis] - p[axis]));
+                x[axis] = plane;
+                (min, max) = (min.min(x), max.max(x));
+            }
+        }
+    }
+    if !min.cmple(max).all() {
+        return None;
+    }
+    let extent = tri[0].max(tri[1]).max(tri[2]) - tri[0].min(tri[1]).min(tri[2]);
+    let pad =
+        4.0 * f32::EPSILON * min.abs().max(max.abs()) + Vec3A::splat(1e-6 * extent.max_element() + f32::MIN_POSITIVE);
+    let (min, max) = ((min - pad).max(within.min), (max + pad).min(within.max));
+    min.cmple(max).all().then(|| Aabb::new(min, max))
+}
+
+/// The references of each side of `s.plane`: whole where they lie on one side, clipped to each side where a
+/// triangle straddles it (a straddling shape of another kind goes whole to its centroid's side).
+fn partition_spatial(refs: &[Ref], s: &SpatialSplit, aabbs: &[Aabb], tris: &[[Vec3A; 3]]) -> (Vec<Ref>, Vec<Ref>) {
+    let (mut left, mut right) = (Vec::new(), Vec::new());
+    for r in refs {
+        let a = s.axis;
+        if r.b.max[a] <= s.plane {
+            left.push(*r);
+        } else if r.b.min[a] >= s.plane {
+            right.push(*r);
+        } else if (r.id as usize) < tris.len() {
+            let tri = &tris[r.id as usize];
+            let (mut lb, mut rb) = (r.b, r.b);
+            lb.max[a] = s.plane;
+            rb.min[a] = s.plane;
+            // Pad across the plane as well: the two halves overlap by the padding, never leave a gap.
+            let pad = 4.0 * f32::EPSILON * s.plane.abs() + 1e-6 * aabbs[r.id as usize].diagonal().max_element();
+            lb.max[a] = (lb.max[a] + pad).min(r.b.max[a]);
+            rb.min[a] = (rb.min[a] - pad).max(r.b.min[a]);
+            let left_part = slab_part(tri, a, f32::NEG_INFINITY, lb.max[a], &lb);
+            match (left_part, slab_part(tri, a, rb.min[a], f32::INFINITY, &rb)) {
+                (Some(l), Some(rr)) => {
+                    left.push(Ref { id: r.id, b: l });
+                    right.push(Ref { id: r.id, b: rr });
+                }
+                (Some(_), None) => left.push(*r),
+                (None, Some(_)) => right.push(*r),
+                (None, None) => {
+                    if r.b.center()[a] < s.plane {
+                        left.push(*r)
+                    } else {
+                        right.push(*r)
+                    }
+                }
+            }
+        } else if r.b.center()[a] < s.plane {
+            left.push(*r);
+        } else {
+            right.push(*r);
+        }
+    }
+    (left, right)
+}
