@@ -80,22 +80,49 @@ struct Subtree {
 
 impl Ctx<'_> {
     fn subtree(&self, mut refs: Vec<Ref>, depth: usize, budget: usize) -> Subtree {
-        let bounds = refs.iter().fold(Aabb::empty(), |a, r| a.union(&r.b));
-        if refs.len() == 1 {
-            return Subtree { nodes: vec![Bvh2Node::new(bounds, 1, 0)], indices: vec![refs[0].id], depth: 0 };
+        if refs.len() <= PARALLEL_REFS {
+            return self.sequential(refs, depth, budget);
         }
+        let bounds = refs.iter().fold(Aabb::empty(), |a, r| a.union(&r.b));
         let mut left_budget = budget;
         let right = split(&mut refs, &bounds, self, depth, &mut left_budget);
-        // The budget left after this split, shared in proportion to the references on each side.
-        let share = (left_budget as f64 * refs.len() as f64 / (refs.len() + right.len()) as f64) as usize;
-        let (lb, rb) = (share, left_budget - share);
-        let (l, r) = if refs.len() + right.len() > PARALLEL_REFS {
-            rayon::join(|| self.subtree(refs, depth + 1, lb), || self.subtree(right, depth + 1, rb))
-        } else {
-            (self.subtree(refs, depth + 1, lb), self.subtree(right, depth + 1, rb))
-        };
+        let (lb, rb) = share(left_budget, refs.len(), right.len());
+        let (l, r) = rayon::join(|| self.subtree(refs, depth + 1, lb), || self.subtree(right, depth + 1, rb));
         join_subtrees(bounds, l, r)
     }
+
+    /// The same tree as [`Ctx::subtree`] builds, on one thread into one node array (no copies of subtrees).
+    fn sequential(&self, refs: Vec<Ref>, depth: usize, budget: usize) -> Subtree {
+        let mut nodes = vec![Bvh2Node::new(Aabb::empty(), 0, 0)];
+        let mut indices = Vec::with_capacity(refs.len());
+        let mut stack = vec![(0usize, refs, depth, budget)];
+        let mut deepest = depth;
+        while let Some((node, mut refs, depth, budget)) = stack.pop() {
+            deepest = deepest.max(depth);
+            let bounds = refs.iter().fold(Aabb::empty(), |a, r| a.union(&r.b));
+            if refs.len() == 1 {
+                nodes[node] = Bvh2Node::new(bounds, 1, indices.len() as u32);
+                indices.push(refs[0].id);
+                continue;
+            }
+            let mut left_budget = budget;
+            let right = split(&mut refs, &bounds, self, depth, &mut left_budget);
+            let (lb, rb) = share(left_budget, refs.len(), right.len());
+            let left = nodes.len();
+            nodes.push(Bvh2Node::new(Aabb::empty(), 0, 0));
+            nodes.push(Bvh2Node::new(Aabb::empty(), 0, 0));
+            nodes[node] = Bvh2Node::new(bounds, 0, left as u32);
+            stack.push((left + 1, right, depth + 1, rb));
+            stack.push((left, refs, depth + 1, lb));
+        }
+        Subtree { nodes, indices, depth: deepest - depth }
+    }
+}
+
+/// The budget left after a split, shared in proportion to the references on each side.
+fn share(budget: usize, left: usize, right: usize) -> (usize, usize) {
+    let l = (budget as f64 * left as f64 / (left + right) as f64) as usize;
+    (l, budget - l)
 }
 
 /// One subtree of root `bounds` over children `l` and `r`: the root, the children's roots as its pair, then the
@@ -150,13 +177,18 @@ fn split(refs: &mut Vec<Ref>, bounds: &Aabb, ctx: &Ctx, depth: usize, budget: &m
         return median_split(refs, &cb);
     };
     let (lo, extent) = (cb.min[o.axis], cb.max[o.axis] - cb.min[o.axis]);
-    let (left, right): (Vec<Ref>, Vec<Ref>) =
-        refs.iter().partition(|r| centroid_bin(r.b.center()[o.axis], lo, extent) <= o.bin);
-    if left.is_empty() || right.is_empty() {
+    // Partition in place: the left part keeps the buffer.
+    let mut m = 0;
+    for j in 0..refs.len() {
+        if centroid_bin(refs[j].b.center()[o.axis], lo, extent) <= o.bin {
+            refs.swap(m, j);
+            m += 1;
+        }
+    }
+    if m == 0 || m == refs.len() {
         return median_split(refs, &cb);
     }
-    *refs = left;
-    right
+    refs.split_off(m)
 }
 
 /// The median split of the centroids along their longest axis.
