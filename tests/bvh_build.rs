@@ -3,7 +3,7 @@
 
 use crate::accel::{assert_matches_brute, bunny_scene_text, rays, scene, setup_file, setup_ron};
 use prism::accel::ray_sets::secondary_rays;
-use prism::accel::{Accel, BvhCandidate, WideBvh};
+use prism::accel::{Accel, BvhCandidate, SPLIT_SAMPLES_PER_PRIMITIVE, SpatialSplits, WideBvh};
 use prism::settings::AccelKind;
 
 /// The bunny with spheres, ellipsoids and planes, as every accelerator is tested: both candidate trees agree with
@@ -96,6 +96,17 @@ fn spatial_splits_reference_long_triangles_in_several_leaves_and_match_brute_for
     let one = rayon::ThreadPoolBuilder::new().num_threads(1).build().expect("a pool");
     let alone = one.install(|| WideBvh::build_candidate(&s.prims, BvhCandidate::Sah));
     assert_eq!((alone.references(), alone.sah_cost().to_bits()), (references, bvh.sah_cost().to_bits()));
+    // Without spatial splits (a render with fewer than SPLIT_SAMPLES_PER_PRIMITIVE samples per primitive), every
+    // primitive is referenced once.
+    let plain = WideBvh::build_with(&s.prims, SpatialSplits::No);
+    assert_eq!(plain.references(), n, "no spatial splits, no duplicates");
+    let per = SPLIT_SAMPLES_PER_PRIMITIVE;
+    assert_eq!(SpatialSplits::for_samples(Some(per * n as u64 - 1), n as u64), SpatialSplits::No);
+    assert_eq!(SpatialSplits::for_samples(Some(per * n as u64), n as u64), SpatialSplits::Yes);
+    assert_eq!(SpatialSplits::for_samples(None, n as u64), SpatialSplits::Yes, "a time budget may trace any number");
+    s.accel = Accel::Bvh(plain);
+    assert_matches_brute("the SAH tree without spatial splits", scene(&app), truth, &all);
+    let s = app.resources.scene.as_mut().expect("a scene");
     s.accel = Accel::Bvh(bvh);
     let hits = assert_matches_brute("SBVH", scene(&app), truth, &all);
     assert!(hits > all.len() / 2, "only {hits} of {} rays hit: the test would be weak", all.len());

@@ -46,12 +46,15 @@ struct Ref {
 /// (node 0 the root, children in adjacent pairs, one reference per leaf; `primitive_indices` may name a triangle
 /// more than once). Subtrees of more than [`PARALLEL_REFS`] references are built in parallel; each child's share
 /// of the budget is fixed by its reference count, so the tree does not depend on the thread count.
-pub fn build_sbvh2(aabbs: &[Aabb], tris: &[[Vec3A; 3]]) -> Bvh2 {
+///
+/// `budget`: the most extra references as a share of the primitive count ([`REFERENCE_BUDGET`] for the spatial
+/// splits; 0 for none, which leaves the binned SAH of the centroids alone).
+pub fn build_sbvh2(aabbs: &[Aabb], tris: &[[Vec3A; 3]], budget: f32) -> Bvh2 {
     let n = aabbs.len();
     let refs: Vec<Ref> = aabbs.iter().enumerate().map(|(i, b)| Ref { id: i as u32, b: *b }).collect();
     let root_area = refs.iter().fold(Aabb::empty(), |a, r| a.union(&r.b)).half_area();
     let ctx = Ctx { aabbs, tris, root_area };
-    let t = ctx.subtree(refs, 0, (n as f32 * REFERENCE_BUDGET) as usize);
+    let t = ctx.subtree(refs, 0, (n as f32 * budget.max(0.0)) as usize);
     Bvh2 {
         nodes: t.nodes,
         primitive_indices: t.indices,

@@ -37,7 +37,7 @@ pub use bvh::BvhAccel;
 pub use grid::{CellHit, GridCell, UniformGrid};
 pub use kdtree::{KdParams, KdTree};
 pub use tri_box::triangle_overlaps_box;
-pub use wide_bvh::{Candidate as BvhCandidate, WideBvh};
+pub use wide_bvh::{Candidate as BvhCandidate, SPLIT_SAMPLES_PER_PRIMITIVE, SpatialSplits, WideBvh};
 pub use work::{NoCount, TraversalWork, WorkCounter};
 
 use crate::error::{PrismError, Result};
@@ -92,6 +92,12 @@ impl Accel {
     /// Build the accelerator of the given kind over `prims`. Fails only on bad grid resolutions and on more
     /// primitives than the wide BVH's leaf encoding holds (`2^28`).
     pub fn build(kind: AccelKind, prims: &Primitives) -> Result<Accel> {
+        Self::build_with(kind, prims, SpatialSplits::Yes)
+    }
+
+    /// As [`Accel::build`]; `splits` says whether the `bvh`'s SAH candidate splits triangles (a render chooses by
+    /// its samples, [`SpatialSplits::for_samples`]; `prism bench` and the other callers always do).
+    pub fn build_with(kind: AccelKind, prims: &Primitives, splits: SpatialSplits) -> Result<Accel> {
         let start = Instant::now();
         if kind == AccelKind::Bvh && prims.num_bounded() as usize >= wide_bvh::MAX_PRIMITIVES {
             return Err(PrismError::invalid(format!(
@@ -101,7 +107,7 @@ impl Accel {
             )));
         }
         let mut accel = match kind {
-            AccelKind::Bvh => Accel::Bvh(WideBvh::build(prims)),
+            AccelKind::Bvh => Accel::Bvh(WideBvh::build_with(prims, splits)),
             AccelKind::CwBvh => Accel::CwBvh(BvhAccel::build(prims)),
             AccelKind::KdTree => Accel::KdTree(KdTree::build(prims)),
             AccelKind::Grid(res) => Accel::Grid(UniformGrid::build(prims, res)?),

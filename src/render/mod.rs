@@ -47,7 +47,10 @@ pub fn build_scene_system(world: &mut World, res: &mut Resources) -> Result<()> 
     if prims.skipped_degenerate > 0 {
         eprintln!("warning: skipped {} degenerate (zero-area or non-finite) mesh triangles", prims.skipped_degenerate);
     }
-    let accel = Accel::build(res.settings.accel, &prims)?;
+    let st = &res.settings;
+    let samples = st.spp.map(|spp| st.width as u64 * st.height as u64 * spp as u64);
+    let splits = crate::accel::SpatialSplits::for_samples(samples, prims.num_bounded() as u64);
+    let accel = Accel::build_with(st.accel, &prims, splits)?;
     res.insert(Emitters(emitters));
     res.scene = Some(Scene {
         camera,

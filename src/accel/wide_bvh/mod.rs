@@ -32,7 +32,7 @@ use super::{AccelStats, Accelerator};
 use crate::geometry::{Ray, TriPacket, WatertightRay};
 use crate::primitives::{Hit, Primitives};
 use boxes::{BoxTest, RayBoxes, RayBoxes8};
-pub use build::Candidate;
+pub use build::{Candidate, SPLIT_SAMPLES_PER_PRIMITIVE, SpatialSplits};
 use glam::Vec3A;
 use obvhs::{aabb::Aabb, bvh2::Bvh2};
 use pulp::x86::V3;
@@ -125,12 +125,18 @@ impl WideBvh {
     /// splits), the one cheaper to traverse by the surface-area cost (`build.rs`); the top-down build alone for
     /// degenerate input.
     pub fn build(prims: &Primitives) -> Self {
-        build::build(prims, None)
+        build::build(prims, None, SpatialSplits::Yes)
     }
 
-    /// The tree of one candidate build (for tests and comparisons; `build` picks the cheaper).
+    /// As [`WideBvh::build`], with or without the SAH candidate's spatial splits.
+    pub fn build_with(prims: &Primitives, splits: SpatialSplits) -> Self {
+        build::build(prims, None, splits)
+    }
+
+    /// The tree of one candidate build (for tests and comparisons; `build` picks the cheaper), the SAH candidate
+    /// with spatial splits.
     pub fn build_candidate(prims: &Primitives, candidate: Candidate) -> Self {
-        build::build(prims, Some(candidate))
+        build::build(prims, Some(candidate), SpatialSplits::Yes)
     }
 
     /// Primitive references in the leaves: the primitive count, plus the extra references of triangles that spatial
