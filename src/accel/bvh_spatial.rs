@@ -1,5 +1,5 @@
 //! A top-down BVH2 with spatial splits (SBVH; Stich, Friedrich & Dietrich, "Spatial Splits in Bounding Volume
-//! Hierarchies", HPG 2009): the binned SAH of `bvh_topdown` over the references' centroids, and beside it, where
+//! Hierarchies", HPG 2009): a binned SAH over the references' centroids (32 bins on every axis), and beside it, where
 //! the two children of the best such split overlap by more than [`OVERLAP_ALPHA`] of the root's area, a split of
 //! space: a plane through the node's box at one of [`SPATIAL_BINS`] bin boundaries per axis, every triangle that
 //! straddles it referenced on both sides with its box clipped to the triangle's part on that side (the binning
@@ -8,8 +8,9 @@
 //! node's box across space they do not occupy, so rays test fewer boxes and triangles.
 //!
 //! Parameters: [`SPATIAL_BINS`] bins per axis, [`OVERLAP_ALPHA`] (Stich's alpha), and a budget of at most
-//! [`REFERENCE_BUDGET`] x the primitive count in extra references (duplicated triangles), spent top-down
-//! first-come. Shapes other than triangles are never split: they go whole to one side by their centroid.
+//! [`REFERENCE_BUDGET`] x the primitive count in extra references (duplicated triangles); what a split leaves of
+//! its node's budget is shared between the children in proportion to their references. Shapes other than
+//! triangles are never split: they go whole to one side by their centroid.
 //!
 //! Correctness: a triangle's part inside a node's box is covered by the union of its references' boxes in the
 //! children (the clipped boxes of its two halves, closed at the plane), and every clipped box is padded as the
@@ -32,7 +33,7 @@ pub const OVERLAP_ALPHA: f32 = 1e-3;
 /// Most extra references, as a share of the primitive count (memory stays within 1.5x whatever the input). The
 /// dragon uses about 12% (0.1: 8.73 / 14.02 per bounce ray; 0.25 to 1: the same as 0.5).
 pub const REFERENCE_BUDGET: f32 = 0.5;
-/// Below this depth every split is a median split of the centroids (bounds the tree's depth on any input).
+/// From this depth on every split is a median split of the centroids (bounds the tree's depth on any input).
 const SAH_DEPTH: usize = 48;
 
 /// One reference: a primitive and the box of its part in the current node.
