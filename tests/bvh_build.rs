@@ -90,13 +90,13 @@ fn spatial_splits_reference_long_triangles_in_several_leaves_and_match_brute_for
     let bvh = WideBvh::build_candidate(&s.prims, BvhCandidate::Sah);
     let references = bvh.references();
     eprintln!("{n} primitives, {references} references in the SAH tree with spatial splits");
-    assert!(references > n + 50, "spatial splits should duplicate some of the 400 sticks: {references} references");
+    assert!(references > n + 50, "spatial splits should duplicate some triangles: {references} references for {n}");
     assert!(references <= n + n / 2, "the reference budget is half the primitive count: {references}");
     // Subtrees are built in parallel with budgets fixed by their sizes: the same tree on one thread.
     let one = rayon::ThreadPoolBuilder::new().num_threads(1).build().expect("a pool");
     let alone = one.install(|| WideBvh::build_candidate(&s.prims, BvhCandidate::Sah));
     assert_eq!((alone.references(), alone.sah_cost().to_bits()), (references, bvh.sah_cost().to_bits()));
-    // Without spatial splits (a render with fewer than SPLIT_SAMPLES_PER_PRIMITIVE samples per primitive), every
+    // Without spatial splits (a render with fewer than SPLIT_SAMPLES_PER_PRIMITIVE camera samples per primitive), every
     // primitive is referenced once.
     let plain = WideBvh::build_with(&s.prims, SpatialSplits::No);
     assert_eq!(plain.references(), n, "no spatial splits, no duplicates");
