@@ -36,11 +36,31 @@ pub const REFERENCE_BUDGET: f32 = 0.5;
 /// From this depth on every split is a median split of the centroids (bounds the tree's depth on any input).
 const SAH_DEPTH: usize = 48;
 
-/// One reference: a primitive and the box of its part in the current node.
+/// One reference: a primitive and the box of its part in the current node, packed in 28 bytes (a glam `Aabb` with
+/// its 16-byte alignment would make it 48: the build's memory is mostly references).
 #[derive(Clone, Copy, Debug)]
 struct Ref {
     id: u32,
-    b: Aabb,
+    min: [f32; 3],
+    max: [f32; 3],
+}
+
+impl Ref {
+    fn new(id: u32, b: &Aabb) -> Self {
+        Ref { id, min: b.min.to_array(), max: b.max.to_array() }
+    }
+
+    /// The reference's box.
+    #[inline]
+    fn b(&self) -> Aabb {
+        Aabb::new(Vec3A::from_array(self.min), Vec3A::from_array(self.max))
+    }
+
+    /// Its box's centre along `axis`.
+    #[inline]
+    fn centre(&self, axis: usize) -> f32 {
+        (self.min[axis] + self.max[axis]) * 0.5
+    }
 }
 
 /// A BVH2 over primitives with padded boxes `aabbs`, of which the first `tris.len()` are the triangles `tris`
@@ -52,8 +72,8 @@ struct Ref {
 /// splits; 0 for none, which leaves the binned SAH of the centroids alone).
 pub fn build_sbvh2(aabbs: &[Aabb], tris: &[[Vec3A; 3]], budget: f32) -> Bvh2 {
     let n = aabbs.len();
-    let refs: Vec<Ref> = aabbs.iter().enumerate().map(|(i, b)| Ref { id: i as u32, b: *b }).collect();
-    let root_area = refs.iter().fold(Aabb::empty(), |a, r| a.union(&r.b)).half_area();
+    let refs: Vec<Ref> = aabbs.iter().enumerate().map(|(i, b)| Ref::new(i as u32, b)).collect();
+    let root_area = refs.iter().fold(Aabb::empty(), |a, r| a.union(&r.b())).half_area();
     let ctx = Ctx { aabbs, tris, root_area };
     let t = ctx.subtree(refs, 0, (n as f32 * budget.max(0.0)) as usize);
     Bvh2 {
@@ -87,7 +107,7 @@ impl Ctx<'_> {
         if refs.len() <= PARALLEL_REFS {
             return self.sequential(refs, depth, budget);
         }
-        let bounds = refs.iter().fold(Aabb::empty(), |a, r| a.union(&r.b));
+        let bounds = refs.iter().fold(Aabb::empty(), |a, r| a.union(&r.b()));
         let mut left_budget = budget;
         let right = split(&mut refs, &bounds, self, depth, &mut left_budget);
         let (lb, rb) = share(left_budget, refs.len(), right.len());
@@ -103,7 +123,7 @@ impl Ctx<'_> {
         let mut deepest = depth;
         while let Some((node, mut refs, depth, budget)) = stack.pop() {
             deepest = deepest.max(depth);
-            let bounds = refs.iter().fold(Aabb::empty(), |a, r| a.union(&r.b));
+            let bounds = refs.iter().fold(Aabb::empty(), |a, r| a.union(&r.b()));
             if refs.len() == 1 {
                 nodes[node] = Bvh2Node::new(bounds, 1, indices.len() as u32);
                 indices.push(refs[0].id);
@@ -156,7 +176,10 @@ fn join_subtrees(bounds: Aabb, l: Subtree, r: Subtree) -> Subtree {
 /// non-empty.
 fn split(refs: &mut Vec<Ref>, bounds: &Aabb, ctx: &Ctx, depth: usize, budget: &mut usize) -> Vec<Ref> {
     let (aabbs, tris, root_area) = (ctx.aabbs, ctx.tris, ctx.root_area);
-    let cb = refs.iter().fold(Aabb::empty(), |a, r| a.union(&Aabb::new(r.b.center(), r.b.center())));
+    let cb = refs.iter().fold(Aabb::empty(), |a, r| {
+        let c = r.b().center();
+        a.union(&Aabb::new(c, c))
+    });
     if depth >= SAH_DEPTH || refs.len() <= 4 {
         return median_split(refs, &cb);
     }
@@ -184,7 +207,7 @@ fn split(refs: &mut Vec<Ref>, bounds: &Aabb, ctx: &Ctx, depth: usize, budget: &m
     // Partition in place: the left part keeps the buffer.
     let mut m = 0;
     for j in 0..refs.len() {
-        if centroid_bin(refs[j].b.center()[o.axis], lo, extent) <= o.bin {
+        if centroid_bin(refs[j].centre(o.axis), lo, extent) <= o.bin {
             refs.swap(m, j);
             m += 1;
         }
@@ -199,7 +222,7 @@ fn split(refs: &mut Vec<Ref>, bounds: &Aabb, ctx: &Ctx, depth: usize, budget: &m
 fn median_split(refs: &mut Vec<Ref>, cb: &Aabb) -> Vec<Ref> {
     let axis = cb.largest_axis();
     let m = refs.len() / 2;
-    refs.select_nth_unstable_by(m, |a, b| a.b.center()[axis].total_cmp(&b.b.center()[axis]));
+    refs.select_nth_unstable_by(m, |a, b| a.centre(axis).total_cmp(&b.centre(axis)));
     refs.split_off(m)
 }
 
@@ -225,8 +248,8 @@ fn best_object_split(refs: &[Ref], cb: &Aabb) -> Option<ObjectSplit> {
         }
         let mut bins = [(Aabb::empty(), 0usize); SPATIAL_BINS];
         for r in refs {
-            let b = &mut bins[centroid_bin(r.b.center()[axis], lo, extent)];
-            b.0 = b.0.union(&r.b);
+            let b = &mut bins[centroid_bin(r.centre(axis), lo, extent)];
+            b.0 = b.0.union(&r.b());
             b.1 += 1;
         }
         let mut right = [(Aabb::empty(), 0usize); SPATIAL_BINS];
@@ -279,17 +302,17 @@ fn best_spatial_split(refs: &[Ref], bounds: &Aabb, tris: &[[Vec3A; 3]]) -> Optio
         let mut bins = [(Aabb::empty(), 0usize, 0usize); SPATIAL_BINS];
         for r in refs {
             let (first, last) = if (r.id as usize) < tris.len() {
-                (bin(r.b.min[axis]), bin(r.b.max[axis]))
+                (bin(r.min[axis]), bin(r.max[axis]))
             } else {
-                let c = bin(r.b.center()[axis]);
+                let c = bin(r.centre(axis));
                 (c, c)
             };
             if first == last {
-                bins[first].0 = bins[first].0.union(&r.b);
+                bins[first].0 = bins[first].0.union(&r.b());
             } else {
                 let tri = &tris[r.id as usize];
                 for (k, b) in bins.iter_mut().enumerate().take(last + 1).skip(first) {
-                    let mut slab = r.b;
+                    let mut slab = r.b();
                     slab.min[axis] = slab.min[axis].max(plane(k));
                     slab.max[axis] = slab.max[axis].min(plane(k + 1));
                     if let Some(part) = slab_part(tri, axis, plane(k), plane(k + 1), &slab) {
@@ -359,36 +382,36 @@ fn partition_spatial(refs: &[Ref], s: &SpatialSplit, aabbs: &[Aabb], tris: &[[Ve
     let (mut left, mut right) = (Vec::new(), Vec::new());
     for r in refs {
         let a = s.axis;
-        if r.b.max[a] <= s.plane {
+        if r.max[a] <= s.plane {
             left.push(*r);
-        } else if r.b.min[a] >= s.plane {
+        } else if r.min[a] >= s.plane {
             right.push(*r);
         } else if (r.id as usize) < tris.len() {
             let tri = &tris[r.id as usize];
-            let (mut lb, mut rb) = (r.b, r.b);
+            let (mut lb, mut rb) = (r.b(), r.b());
             lb.max[a] = s.plane;
             rb.min[a] = s.plane;
             // Pad across the plane as well: the two halves overlap by the padding, never leave a gap.
             let pad = 4.0 * f32::EPSILON * s.plane.abs() + 1e-6 * aabbs[r.id as usize].diagonal().max_element();
-            lb.max[a] = (lb.max[a] + pad).min(r.b.max[a]);
-            rb.min[a] = (rb.min[a] - pad).max(r.b.min[a]);
+            lb.max[a] = (lb.max[a] + pad).min(r.max[a]);
+            rb.min[a] = (rb.min[a] - pad).max(r.min[a]);
             let left_part = slab_part(tri, a, f32::NEG_INFINITY, lb.max[a], &lb);
             match (left_part, slab_part(tri, a, rb.min[a], f32::INFINITY, &rb)) {
                 (Some(l), Some(rr)) => {
-                    left.push(Ref { id: r.id, b: l });
-                    right.push(Ref { id: r.id, b: rr });
+                    left.push(Ref::new(r.id, &l));
+                    right.push(Ref::new(r.id, &rr));
                 }
                 (Some(_), None) => left.push(*r),
                 (None, Some(_)) => right.push(*r),
                 (None, None) => {
-                    if r.b.center()[a] < s.plane {
+                    if r.centre(a) < s.plane {
                         left.push(*r)
                     } else {
                         right.push(*r)
                     }
                 }
             }
-        } else if r.b.center()[a] < s.plane {
+        } else if r.centre(a) < s.plane {
             left.push(*r);
         } else {
             right.push(*r);
