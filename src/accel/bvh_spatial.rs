@@ -226,7 +226,8 @@ fn median_split(refs: &mut Vec<Ref>, cb: &Aabb) -> Vec<Ref> {
     refs.split_off(m)
 }
 
-/// The bin of centroid coordinate `c` among [`SPATIAL_BINS`] over `[lo, lo + extent]`.
+/// The bin of coordinate `c` (a centroid, or a box face for the spatial bins) among [`SPATIAL_BINS`] over
+/// `[lo, lo + extent]`.
 fn centroid_bin(c: f32, lo: f32, extent: f32) -> usize {
     (((c - lo) / extent * SPATIAL_BINS as f32) as usize).min(SPATIAL_BINS - 1)
 }
@@ -246,30 +247,52 @@ fn best_object_split(refs: &[Ref], cb: &Aabb) -> Option<ObjectSplit> {
         if !(extent > 0.0 && extent.is_finite()) {
             continue;
         }
-        let mut bins = [(Aabb::empty(), 0usize); SPATIAL_BINS];
+        // A reference starts and ends in its centroid's bin.
+        let mut bins = [(Aabb::empty(), 0usize, 0usize); SPATIAL_BINS];
         for r in refs {
             let b = &mut bins[centroid_bin(r.centre(axis), lo, extent)];
             b.0 = b.0.union(&r.b());
-            b.1 += 1;
+            (b.1, b.2) = (b.1 + 1, b.2 + 1);
         }
-        let mut right = [(Aabb::empty(), 0usize); SPATIAL_BINS];
-        let mut acc = (Aabb::empty(), 0usize);
-        for k in (1..SPATIAL_BINS).rev() {
-            acc = (acc.0.union(&bins[k].0), acc.1 + bins[k].1);
-            right[k] = acc;
+        if let Some(s) = cheapest_boundary(&bins)
+            && best.as_ref().is_none_or(|b| s.cost < b.cost)
+        {
+            let overlap = intersection(&s.left, &s.right).map_or(0.0, |o| o.half_area());
+            best = Some(ObjectSplit { cost: s.cost, axis, bin: s.last_left, overlap });
         }
-        let mut left = (Aabb::empty(), 0usize);
-        for k in 0..SPATIAL_BINS - 1 {
-            left = (left.0.union(&bins[k].0), left.1 + bins[k].1);
-            let r = right[k + 1];
-            if left.1 == 0 || r.1 == 0 {
-                continue;
-            }
-            let cost = left.0.half_area() * left.1 as f32 + r.0.half_area() * r.1 as f32;
-            if best.as_ref().is_none_or(|b| cost < b.cost) {
-                let overlap = intersection(&left.0, &r.0).map_or(0.0, |o| o.half_area());
-                best = Some(ObjectSplit { cost, axis, bin: k, overlap });
-            }
+    }
+    best
+}
+
+/// The cheapest boundary between bins by SAH: its cost, the last bin on its left and both sides' boxes.
+struct Boundary {
+    cost: f32,
+    last_left: usize,
+    left: Aabb,
+    right: Aabb,
+}
+
+/// The SAH sweep over `bins` of (box of the parts in the bin, references starting in it, references ending in
+/// it): a boundary after bin `k` has on its left the references starting at or before `k`, on its right those
+/// ending after it. `None` if every boundary leaves one side empty. Ties keep the first boundary.
+fn cheapest_boundary(bins: &[(Aabb, usize, usize); SPATIAL_BINS]) -> Option<Boundary> {
+    let mut right = [(Aabb::empty(), 0usize); SPATIAL_BINS];
+    let mut acc = (Aabb::empty(), 0usize);
+    for k in (1..SPATIAL_BINS).rev() {
+        acc = (acc.0.union(&bins[k].0), acc.1 + bins[k].2);
+        right[k] = acc;
+    }
+    let mut best: Option<Boundary> = None;
+    let mut left = (Aabb::empty(), 0usize);
+    for k in 0..SPATIAL_BINS - 1 {
+        left = (left.0.union(&bins[k].0), left.1 + bins[k].1);
+        let r = right[k + 1];
+        if left.1 == 0 || r.1 == 0 {
+            continue;
+        }
+        let cost = left.0.half_area() * left.1 as f32 + r.0.half_area() * r.1 as f32;
+        if best.as_ref().is_none_or(|b| cost < b.cost) {
+            best = Some(Boundary { cost, last_left: k, left: left.0, right: r.0 });
         }
     }
     best
@@ -289,15 +312,14 @@ struct SpatialSplit {
 }
 
 fn best_spatial_split(refs: &[Ref], bounds: &Aabb, tris: &[[Vec3A; 3]]) -> Option<SpatialSplit> {
-    let nb = SPATIAL_BINS;
     let mut best: Option<SpatialSplit> = None;
     for axis in 0..3 {
         let (lo, extent) = (bounds.min[axis], bounds.max[axis] - bounds.min[axis]);
         if !(extent > 0.0 && extent.is_finite()) {
             continue;
         }
-        let plane = |k: usize| lo + extent * (k as f32 / nb as f32);
-        let bin = |x: f32| (((x - lo) / extent * nb as f32) as usize).min(nb - 1);
+        let plane = |k: usize| lo + extent * (k as f32 / SPATIAL_BINS as f32);
+        let bin = |x: f32| centroid_bin(x, lo, extent);
         // Per bin: the box of the references' parts in it, how many references start and end in it.
         let mut bins = [(Aabb::empty(), 0usize, 0usize); SPATIAL_BINS];
         for r in refs {
@@ -323,23 +345,10 @@ fn best_spatial_split(refs: &[Ref], bounds: &Aabb, tris: &[[Vec3A; 3]]) -> Optio
             bins[first].1 += 1;
             bins[last].2 += 1;
         }
-        let mut right = [(Aabb::empty(), 0usize); SPATIAL_BINS];
-        let mut acc = (Aabb::empty(), 0usize);
-        for k in (1..nb).rev() {
-            acc = (acc.0.union(&bins[k].0), acc.1 + bins[k].2);
-            right[k] = acc;
-        }
-        let mut left = (Aabb::empty(), 0usize);
-        for k in 0..nb - 1 {
-            left = (left.0.union(&bins[k].0), left.1 + bins[k].1);
-            let r = right[k + 1];
-            if left.1 == 0 || r.1 == 0 {
-                continue;
-            }
-            let cost = left.0.half_area() * left.1 as f32 + r.0.half_area() * r.1 as f32;
-            if best.as_ref().is_none_or(|b| cost < b.cost) {
-                best = Some(SpatialSplit { cost, axis, plane: plane(k + 1) });
-            }
+        if let Some(s) = cheapest_boundary(&bins)
+            && best.as_ref().is_none_or(|b| s.cost < b.cost)
+        {
+            best = Some(SpatialSplit { cost: s.cost, axis, plane: plane(s.last_left + 1) });
         }
     }
     best
