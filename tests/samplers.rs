@@ -14,7 +14,7 @@ use prism::camera::CameraRig;
 use prism::components::{Camera, Projection};
 use prism::sampling::{
     PixelFilter, Rng, Sampler, SamplerKind, nested_uniform_scramble, sobol_dim1_fast, sobol_dim1_reference,
-    sobol_owen_1d_reversed, sobol_owen_2d, sobol_owen_2d_reference,
+    sobol_owen_1d_point, sobol_owen_1d_reversed, sobol_owen_2d, sobol_owen_2d_reference,
 };
 use prism::settings::Overrides;
 
@@ -40,6 +40,8 @@ fn sobol_points_in_the_reversed_domain_equal_the_definition() {
         assert_eq!(sobol_owen_2d(i, seed), sobol_owen_2d_reference(i, seed), "index {i} seed {seed}");
         let one = nested_uniform_scramble(nested_uniform_scramble(i, k).reverse_bits(), seed);
         assert_eq!(sobol_owen_1d_reversed(i.reverse_bits(), k, seed), one, "index {i} keys {k} {seed}");
+        // The sampler's entry point, compiled for GFNI where the CPU has it: the same number.
+        assert_eq!(sobol_owen_1d_point(i.reverse_bits(), k, seed), one, "GFNI dispatch: index {i} keys {k} {seed}");
     }
 }
 

@@ -19,8 +19,8 @@ pub use permute::permute;
 pub use rng::{Rng, hash_u64};
 pub use sampler::{CAMERA_DIMENSIONS, Deferred1d, Sampler, SamplerKind};
 pub use sobol::{
-    nested_uniform_scramble, sobol_dim1_fast, sobol_dim1_reference, sobol_owen_1d_reversed, sobol_owen_2d,
-    sobol_owen_2d_reference,
+    nested_uniform_scramble, sobol_dim1_fast, sobol_dim1_reference, sobol_owen_1d_point, sobol_owen_1d_reversed,
+    sobol_owen_2d, sobol_owen_2d_reference,
 };
 
 /// Stratified 2D points for `count` samples: the unit square is cut into `n x n` strata with `n = ceil(sqrt(count))`,

@@ -19,9 +19,10 @@
 //!
 //! Everything is a pure function of (seed, pixel, sample index, dimension), so images do not depend on threads.
 
-use super::sobol::{hash32, scramble_keys_2d, sobol_owen_2d_keyed};
-use super::{Rng, sobol_owen_1d_reversed};
+use super::Rng;
+use super::sobol::{hash32, scramble_keys_2d, sobol_owen_1d_point, sobol_owen_2d_keyed};
 use glam::Vec2;
+use multiversion::multiversion;
 
 /// Which sampler fills the dimensions of a sample.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default, serde::Deserialize, serde::Serialize)]
@@ -91,6 +92,32 @@ pub struct Sampler {
     keys_2d: [[u32; 4]; KEY_SLOTS],
 }
 
+/// The scramble seed of dimension `dim` of the pixel (or photon batch) whose key is `key`.
+#[inline]
+fn dim_key(key: u32, dim: u32) -> u32 {
+    hash32(key ^ dim.wrapping_mul(0x9E37_79B9).wrapping_add(0x632B_E5AB))
+}
+
+/// The Sobol point at dimensions `dim, dim + 1` for the index whose reversal is `index_rev`, its scramble keys
+/// (from [`dim_key`] of the pixel's `key` and the dimension) cached in `keys_2d`. Compiled twice and chosen at run
+/// time, so that its bit reversals use GFNI where the CPU has it (see `sobol.rs`): on this machine (AMD Zen 5) the
+/// Cornell box renders 4% faster, the same image bit for bit.
+#[multiversion(targets("x86_64+gfni"))]
+fn sobol_2d_cached(keys_2d: &mut [[u32; 4]; KEY_SLOTS], index_rev: u32, dim: u32, key: u32) -> Vec2 {
+    let slot = (dim as usize >> 1) % KEY_SLOTS;
+    let tag = dim.wrapping_add(1);
+    if tag == 0 {
+        // The last dimension there is (tag 0 would read an empty slot as cached).
+        return sobol_owen_2d_keyed(index_rev, scramble_keys_2d(dim_key(key, dim)));
+    }
+    if keys_2d[slot][3] != tag {
+        let [a, b, c] = scramble_keys_2d(dim_key(key, dim));
+        keys_2d[slot] = [a, b, c, tag];
+    }
+    let [a, b, c, _] = keys_2d[slot];
+    sobol_owen_2d_keyed(index_rev, [a, b, c])
+}
+
 /// Cached 2D dimensions: 64 dimensions, a path of about nine vertices.
 const KEY_SLOTS: usize = 32;
 
@@ -138,7 +165,7 @@ impl Sampler {
 
     #[inline]
     fn dim_key(&self, dim: u32) -> u32 {
-        hash32(self.key ^ dim.wrapping_mul(0x9E37_79B9).wrapping_add(0x632B_E5AB))
+        dim_key(self.key, dim)
     }
 
     /// The Sobol sampler's number at dimension `dim` of the current sample.
@@ -146,25 +173,14 @@ impl Sampler {
     fn sobol_1d_at(&self, dim: u32) -> f32 {
         let k = self.dim_key(dim);
         // First Sobol dimension (van der Corput) of the shuffled index, Owen-scrambled.
-        let x = sobol_owen_1d_reversed(self.index_rev, k, hash32(k ^ 0xa511_e9b3));
+        let x = sobol_owen_1d_point(self.index_rev, k, hash32(k ^ 0xa511_e9b3));
         (x >> 8) as f32 * (1.0 / 16_777_216.0)
     }
 
     /// The Sobol sampler's point at dimensions `dim, dim + 1` of the current sample (scramble keys cached).
     #[inline]
     fn sobol_2d_at(&mut self, dim: u32) -> Vec2 {
-        let slot = (dim as usize >> 1) % KEY_SLOTS;
-        let tag = dim.wrapping_add(1);
-        if tag == 0 {
-            // The last dimension there is (tag 0 would read an empty slot as cached).
-            return sobol_owen_2d_keyed(self.index_rev, scramble_keys_2d(self.dim_key(dim)));
-        }
-        if self.keys_2d[slot][3] != tag {
-            let [a, b, c] = scramble_keys_2d(self.dim_key(dim));
-            self.keys_2d[slot] = [a, b, c, tag];
-        }
-        let [a, b, c, _] = self.keys_2d[slot];
-        sobol_owen_2d_keyed(self.index_rev, [a, b, c])
+        sobol_2d_cached(&mut self.keys_2d, self.index_rev, dim, self.key)
     }
 
     /// One number in [0, 1).

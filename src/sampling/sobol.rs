@@ -3,6 +3,13 @@
 //! elementary intervals in any aspect ratio, and the sequence is progressive: no total count is needed. A hash-based
 //! nested uniform scramble per (pixel, dimension) randomises it, so each point alone is uniform (unbiased), and
 //! shuffling the index decorrelates dimensions.
+//!
+//! The sampler's entry points ([`sobol_owen_1d_point`] here, and its cached 2D points) are compiled twice and chosen
+//! at run time: where the CPU has GFNI (Intel Ice Lake and later, AMD Zen 4 and later) a bit reversal is one
+//! `gf2p8affineqb` and a byte swap instead of a dozen shifts and masks. The integer arithmetic is the same, so the
+//! points are the same bit for bit on every CPU.
+
+use multiversion::multiversion;
 
 #[inline]
 fn laine_karras(mut x: u32, seed: u32) -> u32 {
@@ -145,6 +152,12 @@ pub fn sobol_owen_2d_keyed(index_rev: u32, keys: [u32; 3]) -> glam::Vec2 {
     let (x, y) = (both as u32, (both >> 32) as u32);
     const S: f32 = 1.0 / 16_777_216.0;
     glam::Vec2::new((x >> 8) as f32 * S, (y >> 8) as f32 * S)
+}
+
+/// [`sobol_owen_1d_reversed`], with its bit reversals in GFNI where the CPU has it (see the module's header).
+#[multiversion(targets("x86_64+gfni"))]
+pub fn sobol_owen_1d_point(index_rev: u32, shuffle: u32, scramble: u32) -> u32 {
+    sobol_owen_1d_reversed(index_rev, shuffle, scramble)
 }
 
 /// The definition [`sobol_owen_2d`] implements (tests compare the two): shuffle the index by a nested uniform
