@@ -37,6 +37,11 @@ extrapolated from the nearest segment), divided by the peer's median time. The s
 ratio computed from each repetition's own points. Where NAME.json gives the reference's own noise, a ratio with
 both errors corrected for it (sqrt(rmse^2 - noise^2)) is shown too.
 
+Prism's fastest binary (`--pgo`): every Prism configuration is run twice, by the plain `cargo build --release`
+binary and by the profile-guided build of benches/pgo/build.sh (target/pgo/prism, built first when it is missing or
+older than a source file; labels ending in `-pgo`), interleaved like the rest. With --cost-by-depth, --pgo times
+the profile-guided binary instead of the plain one.
+
 Where along a path each renderer spends its time (`--cost-by-depth`): both path tracers (Mitsuba with `ldsampler`,
 Prism uniform) at each given max_depth and the first --spp, interleaved, median of --reps; nanoseconds per sample
 and thread, and what each extra depth adds (max_depth 1: camera rays and emitters seen directly; 2: plus direct
@@ -91,6 +96,19 @@ def libllvm_path():
     return hits[0] if hits else None
 
 
+PGO_BINARY = ROOT / "target" / "pgo" / "prism"
+
+
+def pgo_up_to_date():
+    """True when target/pgo/prism exists and is newer than every source file of the binary."""
+    if not PGO_BINARY.exists():
+        return False
+    built = PGO_BINARY.stat().st_mtime
+    sources = [ROOT / "Cargo.toml", ROOT / "Cargo.lock", *(ROOT / "src").rglob("*.rs"),
+               *(ROOT / "plugins").rglob("*.rs")]
+    return all(f.stat().st_mtime <= built for f in sources if f.exists())
+
+
 def bootstrap():
     """Create the venv and unpack libLLVM 19 if needed, build Prism, then re-run this script in the venv."""
     PEER.mkdir(parents=True, exist_ok=True)
@@ -116,6 +134,9 @@ def bootstrap():
             sys.exit(f"error: no libLLVM.so.19 under {LLVM_DIR}")
     log("cargo build --release ...")
     run(["cargo", "build", "--release", "--quiet"], cwd=ROOT)
+    if "--pgo" in sys.argv[1:] and not pgo_up_to_date():
+        log("benches/pgo/build.sh (the profile-guided binary, about 5 minutes) ...")
+        run([str(ROOT / "benches" / "pgo" / "build.sh")], cwd=ROOT)
     env = dict(os.environ, DRJIT_LIBLLVM_PATH=str(libllvm_path()), PRISM_PEER_IN_VENV="1")
     os.execve(str(py), [str(py), str(Path(__file__).resolve()), *sys.argv[1:]], env)
 
@@ -293,6 +314,9 @@ def parse_args():
                     help="instead of the equal-error comparison: time both renderers' path tracers (Mitsuba with "
                          "ldsampler) with each max_depth at the first --spp, interleaved, and print the cost per "
                          "sample and thread (where each renderer spends its time along a path), e.g. 1,2,3,8")
+    ap.add_argument("--pgo", action="store_true",
+                    help="also run every Prism configuration with the profile-guided binary (benches/pgo/build.sh, "
+                         "target/pgo/prism; labels ending in -pgo); with --cost-by-depth, time that binary instead")
     ap.add_argument("-o", "--out", type=Path, default=PEER / "results", help="output directory")
     a = ap.parse_args()
     a.scenes = [s for s in a.scenes.split(",") if s]
@@ -324,8 +348,13 @@ def parse_args():
         label, _, args = c.partition("=")
         if not label:
             sys.exit(f"error: --prism '{c}': expected LABEL=ARGS")
-        a.configs.append((label, args))
+        a.configs.append((label, args, PLAIN_BINARY))
+        if a.pgo:
+            a.configs.append((f"{label}-pgo", args, PGO_BINARY))
     return a
+
+
+PLAIN_BINARY = ROOT / "target" / "release" / "prism"
 
 
 def is_ld(spp):
@@ -338,7 +367,6 @@ def is_ld(spp):
 
 def measure(a):
     import numpy as np
-    prism = ROOT / "target" / "release" / "prism"
     a.out.mkdir(parents=True, exist_ok=True)
     tmp = PEER / "tmp"
     tmp.mkdir(exist_ok=True)
@@ -353,9 +381,13 @@ def measure(a):
         h, w = ref.shape[:2]
         mts = Mitsuba(name, a.threads)
         versions.add(mts.version)
-        configs = [(lb, shlex.split(args.replace("{max_depth}", str(max_depth)))) for lb, args in a.configs]
+        configs = [(lb, shlex.split(args.replace("{max_depth}", str(max_depth))), binary)
+                   for lb, args, binary in a.configs]
         if a.ppm and name in ("cornell_caustic", "cornell_rough"):
-            configs.append(("ppm", ["--integrator", f"ppm(max_depth: {max_depth})"]))
+            ppm = ["--integrator", f"ppm(max_depth: {max_depth})"]
+            configs.append(("ppm", ppm, PLAIN_BINARY))
+            if a.pgo:
+                configs.append(("ppm-pgo", ppm, PGO_BINARY))
         peers = [(f"mitsuba-{s}", s) for s in ("ldsampler", "independent")]
         ld_spp = [s for s in a.spp if is_ld(s)]
         if len(ld_spp) < len(a.spp):
@@ -365,24 +397,25 @@ def measure(a):
             for spp in a.spp:
                 if sampler != "ldsampler" or is_ld(spp):
                     mts.render(sampler, spp, 0)
-        prism_render(prism, ROOT / scene_file, min(a.spp), 0, a.threads, configs[0][1], tmp / "warmup.exr")
+        for binary in dict.fromkeys(c[2] for c in configs):
+            prism_render(binary, ROOT / scene_file, min(a.spp), 0, a.threads, configs[0][1], tmp / "warmup.exr")
         prism_spp = sorted(set(a.spp) | set(a.prism_extra_spp))
         for rep in range(a.reps):
             for i, spp in enumerate(prism_spp):
                 seed = 1 + rep * 1000 + i
                 jobs = []
                 if spp in a.spp:
-                    jobs += [(lb, s) for lb, s in peers if s != "ldsampler" or is_ld(spp)]
-                jobs += [(f"prism-{lb}", args) for lb, args in configs]
+                    jobs += [(lb, s, None) for lb, s in peers if s != "ldsampler" or is_ld(spp)]
+                jobs += [(f"prism-{lb}", args, binary) for lb, args, binary in configs]
                 if (rep + i) % 2:
                     jobs.reverse()
-                for label, what in jobs:
+                for label, what, binary in jobs:
                     if label.startswith("mitsuba"):
                         secs, img = mts.render(what, spp, seed)
                         wall = secs
                     else:
                         out = tmp / f"{name}.exr"
-                        secs, wall = prism_render(prism, ROOT / scene_file, spp, seed, a.threads, what, out)
+                        secs, wall = prism_render(binary, ROOT / scene_file, spp, seed, a.threads, what, out)
                         img = read_exr(out)
                     e = rmse(np.asarray(img)[..., :3], ref)
                     rows.append(dict(scene=name, renderer=label, spp=spp, rep=rep, seed=seed, seconds=secs,
@@ -466,7 +499,7 @@ def summarize(a, rows, versions):
 def cost_by_depth(a):
     """Nanoseconds per sample and thread of each path tracer with each max_depth: where along a path the time goes."""
     import numpy as np
-    prism = ROOT / "target" / "release" / "prism"
+    prism = PGO_BINARY if a.pgo else PLAIN_BINARY
     a.out.mkdir(parents=True, exist_ok=True)
     tmp = PEER / "tmp"
     tmp.mkdir(exist_ok=True)
