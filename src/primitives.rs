@@ -143,7 +143,7 @@ impl SurfaceHit {
     }
 
     /// A shadow ray from this point to a light sample (both ends offset off their surfaces).
-    #[inline]
+    #[inline(always)]
     pub fn spawn_to(&self, ls: &LightSample) -> Ray {
         if ls.dist.is_finite() {
             spawn_ray_to(self.p, self.p_err, self.ng, ls.p, ls.p_err, ls.n).leaving(self.prim)
@@ -281,6 +281,7 @@ impl Primitives {
     }
 
     /// Surface data at a hit.
+    #[inline(always)]
     pub fn surface(&self, ray: &Ray, hit: &Hit) -> SurfaceHit {
         let nt = self.num_tris();
         let nb = self.num_bounded();

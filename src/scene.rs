@@ -94,7 +94,7 @@ impl Scene {
     }
 
     /// Closest hit with its surface data.
-    #[inline]
+    #[inline(always)]
     pub fn trace(&self, ray: &Ray) -> Option<SurfaceHit> {
         self.intersect(ray).map(|h| self.prims.surface(ray, &h))
     }

@@ -228,7 +228,7 @@ impl Lobe {
     /// `(eval, pdf)` of one direction together, bit for bit what [`Lobe::eval`] and [`Lobe::pdf`] return: the
     /// microfacet lobes compute the half vector, `D` and `G1(wo)` once instead of twice (next-event estimation
     /// with MIS and BSDF sampling need both).
-    #[inline]
+    #[inline(always)]
     pub fn eval_pdf(&self, wo: Vec3A, wi: Vec3A, mode: TransportMode) -> (Vec3, f32) {
         match *self {
             Lobe::Conductor { alpha, fresnel, scale } if alpha != 0.0 => {
@@ -288,7 +288,7 @@ impl Lobe {
 
     /// Draw a direction: `uc` in [0, 1) chooses between a lobe's parts (reflection or refraction), `u` places it.
     /// `None` when the direction falls where the lobe has no value (e.g. below the surface).
-    #[inline]
+    #[inline(always)]
     pub fn sample(&self, wo: Vec3A, uc: f32, u: Vec2, mode: TransportMode) -> Option<LobeSample> {
         if wo.z <= 0.0 && !matches!(self, Lobe::Dielectric { .. } | Lobe::CourseRefraction { .. }) {
             return None;

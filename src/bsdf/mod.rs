@@ -372,7 +372,7 @@ impl Bsdf {
     }
 
     /// Sample a direction for the given transport mode.
-    #[inline]
+    #[inline(always)]
     pub fn sample_mode(&self, u_lobe: f32, u: Vec2, mode: TransportMode) -> Option<BsdfSample> {
         if self.len == 0 {
             return None;

@@ -67,7 +67,7 @@ pub fn spawn_ray(p: Vec3A, p_err: Vec3A, ng: Vec3A, dir: Vec3A) -> Ray {
 /// A shadow ray from `p` (error `p_err`, normal `ng`) towards `q` (error `q_err`, normal `nq`; zero normal and
 /// error for a point light). Both ends are offset off their surfaces; `tmax` stops just short of the target so the
 /// target surface never counts as an occluder.
-#[inline]
+#[inline(always)]
 pub fn spawn_ray_to(p: Vec3A, p_err: Vec3A, ng: Vec3A, q: Vec3A, q_err: Vec3A, nq: Vec3A) -> Ray {
     let o = offset_ray_origin(p, p_err, ng, q - p);
     let target = if nq == Vec3A::ZERO { q } else { offset_ray_origin(q, q_err, nq, o - q) };

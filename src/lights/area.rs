@@ -240,7 +240,7 @@ impl AreaLight {
     }
 
     /// A uniform point by area: (point, error bound, unit normal, area pdf, emitted radiance there).
-    #[inline]
+    #[inline(always)]
     fn sample_point(&self, prims: &Primitives, u: Vec2) -> (Vec3A, Vec3A, Vec3A, f32, Vec3) {
         match &self.shape {
             AreaShape::Triangles { parallelogram: Some(g), normals, area, .. } => {
@@ -373,6 +373,7 @@ impl AreaLight {
     }
 
     /// A light sample seen from `p` for next-event estimation (solid-angle pdf).
+    #[inline(always)]
     pub fn sample(&self, prims: &Primitives, p: Vec3A, u: Vec2) -> Option<LightSample> {
         if let AreaShape::Sphere { index } = &self.shape {
             let s = &prims.spheres[*index as usize];

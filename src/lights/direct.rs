@@ -14,7 +14,7 @@ impl LightSampler {
     /// Direct light at `s` (BSDF `bsdf`) from one light sample drawn with `u_choice` and `u`, weighted by the power
     /// heuristic against BSDF sampling when `mis` (light sampling alone counts it otherwise); 0 when the light is
     /// occluded, the BSDF does not scatter that way, or the sample has no density.
-    #[inline]
+    #[inline(always)]
     pub fn direct_light(&self, scene: &Scene, s: &SurfaceHit, bsdf: &Bsdf, u_choice: f32, u: Vec2, mis: bool) -> Vec3 {
         let n = bsdf.normal();
         let Some(ls) = self.sample_li(&scene.lights, &scene.prims, s.p, n, u_choice, u) else {

@@ -41,7 +41,7 @@ impl LightSampler {
 
     /// Next-event estimation from point `p` (shading normal `n`, used by the cosine environment strategy): one light
     /// chosen by power with `u_choice`, sampled with `u`. The returned pdf includes the choice probability.
-    #[inline]
+    #[inline(always)]
     pub fn sample_li(
         &self,
         lights: &LightSet,

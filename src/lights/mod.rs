@@ -240,7 +240,7 @@ impl LightSet {
 
     /// Sample light `i` from reference point `p`. `None` when the sample carries no light (back of a one-sided
     /// emitter, `p` on the light's plane, outside a spot's cone).
-    #[inline]
+    #[inline(always)]
     pub fn sample_li(&self, i: usize, prims: &Primitives, p: Vec3A, u: Vec2) -> Option<LightSample> {
         match &self.lights[i] {
             LightSource::Area(a) => a.sample(prims, p, u),
