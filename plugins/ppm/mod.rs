@@ -253,7 +253,9 @@ impl Ppm {
         let (grid, kd, lookup, alpha) = (&self.grid, &self.kd, self.params.lookup, self.params.alpha as f64);
         let max_segments = self.params.segments();
         let add_direct = !fixed || k == 0;
-        self.stats.par_iter_mut().zip(self.eye.par_iter()).for_each(|(st, e)| {
+        // Pieces of at most 256 pixels: the gather's cost varies across the image, and rayon's even split left one
+        // thread idle at the end of each iteration (1.78x on two threads; 1.98x with this).
+        self.stats.par_iter_mut().zip(self.eye.par_iter()).with_max_len(256).for_each(|(st, e)| {
             let (phi, m) = match &e.vp {
                 Some(vp) if r_max > 0.0 => {
                     gather::gather(scene, vp, st.radius() as f32, max_segments, |p, r, f| match lookup {

@@ -35,7 +35,7 @@ pub struct Photon {
 }
 
 /// Photons traced per parallel chunk (fixed, so storage order does not depend on the thread count).
-pub const CHUNK: u64 = 2048;
+pub const CHUNK: u64 = 512;
 
 /// What the photon pass needs.
 pub struct PhotonPass<'a> {
