@@ -26,7 +26,8 @@ with a message):
     (set-up excluded, like Mitsuba's load), and the process's wall time too. Also at --prism-extra-spp (default 4x
     the largest spp), so that Prism's curve reaches the peer's lowest error without extrapolation.
   - For each repetition and each spp the renderers run back to back, the order alternating, so a machine whose
-    speed drifts slows all alike. Seeds differ per repetition.
+    speed drifts slows all alike. Seeds differ per repetition. Each Prism run executes a fresh copy of the binary
+    (the same bytes run from two files differed by up to 15%: where the page cache put the executable).
   - RMSE = sqrt(mean over pixels and RGB of (img - ref)^2) against ../shared/refs/NAME.exr.
 
 Output (stdout and target/peer/results/): per scene, renderer and spp the median time (min-max), the mean RMSE
@@ -54,9 +55,11 @@ import json
 import os
 import re
 import shlex
+import shutil
 import statistics
 import subprocess
 import sys
+import tempfile
 import time
 from pathlib import Path
 
@@ -224,7 +227,27 @@ class Mitsuba:
 
 # ---------------------------------------------------------------- Prism, errors, interpolation
 
+def fresh_copy(binary):
+    """A new copy of `binary` under target/peer/tmp, to run once and delete: the same bytes run from different files
+    differed by up to 15% on the Zen 5 machine (the page cache's placement of the executable), so every Prism run
+    executes a fresh copy and that bias becomes noise that the repetitions average, instead of a constant offset."""
+    tmp = PEER / "tmp"
+    tmp.mkdir(parents=True, exist_ok=True)
+    fd, name = tempfile.mkstemp(prefix="prism-", suffix=".bin", dir=tmp)
+    os.close(fd)
+    shutil.copy2(binary, name)
+    return Path(name)
+
+
 def prism_render(prism, scene, spp, seed, threads, extra, out):
+    copy = fresh_copy(prism)
+    try:
+        return prism_render_with(copy, scene, spp, seed, threads, extra, out)
+    finally:
+        copy.unlink()
+
+
+def prism_render_with(prism, scene, spp, seed, threads, extra, out):
     cmd = [str(prism), "render", str(scene), "--spp", str(spp), "--threads", str(threads), "--seed", str(seed),
            "--checkpoint", "0", "-o", str(out), *extra]
     t0 = time.perf_counter()
