@@ -100,8 +100,8 @@ fn dim_key(key: u32, dim: u32) -> u32 {
 
 /// The Sobol point at dimensions `dim, dim + 1` for the index whose reversal is `index_rev`, its scramble keys
 /// (from [`dim_key`] of the pixel's `key` and the dimension) cached in `keys_2d`. Compiled twice and chosen at run
-/// time, so that its bit reversals use GFNI where the CPU has it (see `sobol.rs`): on this machine (AMD Zen 5) the
-/// Cornell box renders 4% faster, the same image bit for bit.
+/// time, so that its bit reversals use GFNI where the CPU has it (see `sobol.rs`): on AMD Zen 5 the Cornell box
+/// renders 3-4% faster, the same image bit for bit.
 #[multiversion(targets("x86_64+gfni"))]
 fn sobol_2d_cached(keys_2d: &mut [[u32; 4]; KEY_SLOTS], index_rev: u32, dim: u32, key: u32) -> Vec2 {
     let slot = (dim as usize >> 1) % KEY_SLOTS;
