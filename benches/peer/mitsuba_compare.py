@@ -40,7 +40,7 @@ both errors corrected for it (sqrt(rmse^2 - noise^2)) is shown too.
 
 Prism's fastest binary (`--pgo`): every Prism configuration is run twice, by the plain `cargo build --release`
 binary and by the profile-guided build of benches/pgo/build.sh (target/pgo/prism, built first when it is missing or
-older than a source file; labels ending in `-pgo`), interleaved like the rest. With --cost-by-depth, --pgo times
+was built from other sources: a hash of them is kept beside it; labels ending in `-pgo`), interleaved like the rest. With --cost-by-depth, --pgo times
 the profile-guided binary instead of the plain one.
 
 Where along a path each renderer spends its time (`--cost-by-depth`): both path tracers (Mitsuba with `ldsampler`,
@@ -51,6 +51,7 @@ lighting and the first bounce ray; ...). Output mitsuba_cost_by_depth.md:
     python3 benches/peer/mitsuba_compare.py --scenes cornell --spp 64 --reps 3 --cost-by-depth 1,2,3,8
 """
 import argparse
+import hashlib
 import json
 import os
 import re
@@ -102,14 +103,43 @@ def libllvm_path():
 PGO_BINARY = ROOT / "target" / "pgo" / "prism"
 
 
+PGO_SOURCES_HASH = PGO_BINARY.with_name("prism.sources-sha256")
+
+
+def pgo_sources():
+    """The files the binary is built from, in a fixed order."""
+    return sorted([ROOT / "Cargo.toml", ROOT / "Cargo.lock", *(ROOT / "src").rglob("*.rs"),
+                   *(ROOT / "plugins").rglob("*.rs")])
+
+
+def pgo_sources_hash():
+    """SHA-256 over the sources' paths and contents: equal when the code is, whatever the files' times."""
+    h = hashlib.sha256()
+    for f in pgo_sources():
+        if f.exists():
+            h.update(str(f.relative_to(ROOT)).encode() + b"\0" + f.read_bytes() + b"\0")
+    return h.hexdigest()
+
+
 def pgo_up_to_date():
-    """True when target/pgo/prism exists and is newer than every source file of the binary."""
+    """True when target/pgo/prism exists and was built from today's sources: the hash the script recorded after
+    its last build matches (a `git checkout` that rewrites files without changing them does not force a rebuild);
+    without a recorded hash (a build run by hand), when it is newer than every source file."""
     if not PGO_BINARY.exists():
         return False
+    if PGO_SOURCES_HASH.exists():
+        return PGO_SOURCES_HASH.read_text().strip() == pgo_sources_hash()
     built = PGO_BINARY.stat().st_mtime
-    sources = [ROOT / "Cargo.toml", ROOT / "Cargo.lock", *(ROOT / "src").rglob("*.rs"),
-               *(ROOT / "plugins").rglob("*.rs")]
-    return all(f.stat().st_mtime <= built for f in sources if f.exists())
+    return all(f.stat().st_mtime <= built for f in pgo_sources() if f.exists())
+
+
+def build_pgo():
+    """Run benches/pgo/build.sh and record the hash of the sources it built from (taken before it starts)."""
+    digest = pgo_sources_hash()
+    PGO_SOURCES_HASH.unlink(missing_ok=True)
+    log("benches/pgo/build.sh (the profile-guided binary, about 5 minutes) ...")
+    run([str(ROOT / "benches" / "pgo" / "build.sh")], cwd=ROOT)
+    PGO_SOURCES_HASH.write_text(digest + "\n")
 
 
 def bootstrap():
@@ -138,8 +168,7 @@ def bootstrap():
     log("cargo build --release ...")
     run(["cargo", "build", "--release", "--quiet"], cwd=ROOT)
     if "--pgo" in sys.argv[1:] and not pgo_up_to_date():
-        log("benches/pgo/build.sh (the profile-guided binary, about 5 minutes) ...")
-        run([str(ROOT / "benches" / "pgo" / "build.sh")], cwd=ROOT)
+        build_pgo()
     env = dict(os.environ, DRJIT_LIBLLVM_PATH=str(libllvm_path()), PRISM_PEER_IN_VENV="1")
     os.execve(str(py), [str(py), str(Path(__file__).resolve()), *sys.argv[1:]], env)
 
