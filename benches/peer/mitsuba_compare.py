@@ -40,8 +40,8 @@ both errors corrected for it (sqrt(rmse^2 - noise^2)) is shown too.
 
 Prism's fastest binary (`--pgo`): every Prism configuration is run twice, by the plain `cargo build --release`
 binary and by the profile-guided build of benches/pgo/build.sh (target/pgo/prism, built first when it is missing or
-was built from other sources: a hash of them is kept beside it; labels ending in `-pgo`), interleaved like the rest. With --cost-by-depth, --pgo times
-the profile-guided binary instead of the plain one.
+was built from other sources, by a hash of them kept beside it; labels ending in `-pgo`), interleaved like the rest.
+With --cost-by-depth, --pgo times the profile-guided binary instead of the plain one.
 
 Where along a path each renderer spends its time (`--cost-by-depth`): both path tracers (Mitsuba with `ldsampler`,
 Prism uniform) at each given max_depth and the first --spp, interleaved, median of --reps; nanoseconds per sample

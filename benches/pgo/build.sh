@@ -26,6 +26,9 @@ ROOT=$(pwd)
 OUT=$ROOT/target/pgo
 DATA=$OUT/profiles
 mkdir -p "$OUT"
+# The record of which sources the binary was built from (written by benches/peer/mitsuba_compare.py after a build it
+# asked for) no longer holds once this script builds.
+rm -f "$OUT/prism.sources-sha256"
 
 sysroot=$(rustc --print sysroot)
 host=$(rustc -vV | sed -n 's/^host: //p')
