@@ -163,15 +163,10 @@ impl Sampler {
         &mut self.rng
     }
 
-    #[inline]
-    fn dim_key(&self, dim: u32) -> u32 {
-        dim_key(self.key, dim)
-    }
-
     /// The Sobol sampler's number at dimension `dim` of the current sample.
     #[inline]
     fn sobol_1d_at(&self, dim: u32) -> f32 {
-        let k = self.dim_key(dim);
+        let k = dim_key(self.key, dim);
         // First Sobol dimension (van der Corput) of the shuffled index, Owen-scrambled.
         let x = sobol_owen_1d_point(self.index_rev, k, hash32(k ^ 0xa511_e9b3));
         (x >> 8) as f32 * (1.0 / 16_777_216.0)
