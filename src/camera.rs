@@ -33,6 +33,9 @@ pub struct CameraRig {
     half_h: f32,
     /// The film window as fractions of the full frame: `[x0, y0, x1 - x0, y1 - y0]` (`[0, 0, 1, 1]` uncropped).
     window: [f32; 4],
+    /// `window[2] / width` and `window[3] / height`: film pixels to full-frame fractions by one multiplication (a
+    /// division sat on every sample's path from its pixel position to its first traversal step).
+    film_scale: [f32; 2],
     ortho: bool,
     aperture_radius: f32,
     focus_distance: f32,
@@ -70,6 +73,7 @@ impl CameraRig {
             half_w: half_h * aspect,
             half_h,
             window,
+            film_scale: [window[2] / cam.width as f32, window[3] / cam.height as f32],
             ortho,
             aperture_radius: cam.aperture_radius,
             focus_distance: cam.focus_distance,
@@ -81,9 +85,9 @@ impl CameraRig {
     /// Image-plane coordinates (x towards image-right, y towards image-up) of film position `film` (pixels).
     #[inline]
     fn plane(&self, film: Vec2) -> (f32, f32) {
-        let [x0, y0, w, h] = self.window;
-        let fx = x0 + w * film.x / self.width as f32;
-        let fy = y0 + h * film.y / self.height as f32;
+        let [x0, y0, ..] = self.window;
+        let fx = x0 + film.x * self.film_scale[0];
+        let fy = y0 + film.y * self.film_scale[1];
         ((2.0 * fx - 1.0) * self.half_w, (1.0 - 2.0 * fy) * self.half_h)
     }
 

@@ -36,6 +36,15 @@ pub struct TriShading {
     pub tangents: u32,
     /// dp/du and dp/dv (constant over the triangle), computed once when the triangle is built.
     pub dpduv: [Vec3; 2],
+    /// The unit geometric normal `normalize((p1 - p0) x (p2 - p0))`, computed once when the triangle is built (a
+    /// hit record needs it first, and its square root and division sat on every path vertex's critical path).
+    pub ng: Vec3A,
+}
+
+/// The unit geometric normal of a (non-degenerate) triangle, as every hit record uses it.
+#[inline]
+pub fn triangle_normal(v: &[Vec3A; 3]) -> Vec3A {
+    (v[1] - v[0]).cross(v[2] - v[0]).normalize()
 }
 
 /// Marks a triangle without vertex tangents.
@@ -291,7 +300,7 @@ impl Primitives {
             let b0 = 1.0 - hit.b1 - hit.b2;
             // Interpolating the vertices is more accurate than o + t d (Wächter & Binder).
             let p = b0 * p0 + hit.b1 * p1 + hit.b2 * p2;
-            let ng = (p1 - p0).cross(p2 - p0).normalize();
+            let ng = sh.ng;
             let ns = match sh.normals {
                 Some([n0, n1, n2]) => {
                     let n = (b0 * n0 + hit.b1 * n1 + hit.b2 * n2).normalize_or_zero();
@@ -464,6 +473,7 @@ impl Primitives {
                         light: light_slot,
                         tangents: NO_TANGENTS,
                         dpduv,
+                        ng: triangle_normal(&v),
                     });
                 }
                 Shape::Mesh(h) => {
@@ -511,6 +521,7 @@ impl Primitives {
                             light: light_slot,
                             tangents,
                             dpduv,
+                            ng: triangle_normal(&v),
                         });
                     }
                 }

@@ -122,7 +122,7 @@ impl AreaLight {
                 if let Some(last) = cdf.last_mut() {
                     *last = 1.0;
                 }
-                let normals = tris.iter().map(|t| (t[1] - t[0]).cross(t[2] - t[0]).normalize()).collect();
+                let normals = tris.iter().map(crate::primitives::triangle_normal).collect();
                 let parallelogram = if texture.is_none() { Parallelogram::of(tris) } else { None };
                 AreaShape::Triangles { first: ep.first_tri, count: ep.tri_count, cdf, normals, area, parallelogram }
             }
