@@ -65,13 +65,13 @@ pub fn spawn_ray(p: Vec3A, p_err: Vec3A, ng: Vec3A, dir: Vec3A) -> Ray {
 }
 
 /// A shadow ray from `p` (error `p_err`, normal `ng`) towards `q` (error `q_err`, normal `nq`; zero normal and
-/// error for a point light). Both ends are offset off their surfaces; `tmax` stops just short of the target so the
-/// target surface never counts as an occluder.
+/// error for a point light). Both ends are offset off their surfaces. As in pbrt-v4's `SpawnRayTo`, the direction
+/// is the whole segment between the offset ends, not a unit vector, and `tmax` is `1 - 1e-4`, so the ray stops
+/// just short of the target and the target surface never counts as an occluder. For occlusion queries only (every
+/// accelerator and shape test takes any direction length): no square root and division on the way to the query.
 #[inline(always)]
 pub fn spawn_ray_to(p: Vec3A, p_err: Vec3A, ng: Vec3A, q: Vec3A, q_err: Vec3A, nq: Vec3A) -> Ray {
     let o = offset_ray_origin(p, p_err, ng, q - p);
     let target = if nq == Vec3A::ZERO { q } else { offset_ray_origin(q, q_err, nq, o - q) };
-    let to = target - o;
-    let dist = to.length();
-    Ray::with_tmax(o, to / dist, dist * (1.0 - 1e-4))
+    Ray::with_tmax(o, target - o, 1.0 - 1e-4)
 }

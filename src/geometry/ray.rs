@@ -1,5 +1,6 @@
-//! A ray `origin + t * dir` for `t` in `(0, tmax)`. The direction is normalised by every constructor Prism uses
-//! (camera, scattering, shadow rays), so `t` is a distance; accelerators do not rely on it.
+//! A ray `origin + t * dir` for `t` in `(0, tmax)`. Camera and scattered rays have unit directions, so their `t` is
+//! a distance; a shadow ray towards a point carries the whole segment as its direction with `tmax` just below 1
+//! (`spawn_ray_to`). Accelerators and shape tests take any direction length.
 
 use glam::Vec3A;
 
