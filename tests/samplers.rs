@@ -12,6 +12,7 @@ use crate::common::{chi_square, render_ron, scene_path};
 use glam::{Vec2, Vec3, Vec3A};
 use prism::camera::CameraRig;
 use prism::components::{Camera, Projection};
+use prism::integrator::lens_sample_index;
 use prism::sampling::{
     PixelFilter, Rng, Sampler, SamplerKind, nested_uniform_scramble, sobol_dim1_fast, sobol_dim1_reference,
     sobol_owen_1d_point, sobol_owen_1d_reversed, sobol_owen_2d, sobol_owen_2d_reference,
@@ -351,6 +352,49 @@ fn thin_lens_of_aperture_zero_is_the_pinhole_and_the_focal_plane_is_sharp() {
         let (p, q) = (a.at(t_pin), c.at(t_lens));
         assert!((p - q).length() < 1e-5, "focal point {p} vs {q}");
         assert!((c.origin - Vec3A::new(0.0, 0.0, 3.9)).length() <= 0.06 * 1.0001, "origin off the aperture");
+    }
+}
+
+/// The thin lens's pairing (`lens_sample_index`): within a block of samples (a pixel's whole render, or the set an
+/// explicit pattern stratifies over) each sample takes the lens point of a sample of the same block through a
+/// permutation, so the block's lens points are the block's own set (its stratification kept) and only which pixel
+/// point each meets changes; `next_2d_of(j)` is the point sample `j`'s own request would get.
+#[test]
+fn lens_points_are_a_permutation_of_the_blocks_own() {
+    for count in [1u32, 2, 3, 4, 16, 64, 100, 1000] {
+        for key in [0u32, 1, 0xdead_beef] {
+            for start in [0u64, 16, 1 << 20] {
+                let mut taken: Vec<u64> =
+                    (0..count).map(|p| lens_sample_index(start + p as u64, p, count, key)).collect();
+                taken.sort_unstable();
+                let block: Vec<u64> = (start..start + count as u64).collect();
+                assert_eq!(taken, block, "block of {count} from {start}, key {key}: not a permutation");
+            }
+        }
+    }
+    // Not the identity (the pairing does change), and different keys give different pairings.
+    let pairing = |key| (0..64u32).map(|p| lens_sample_index(p as u64, p, 64, key)).collect::<Vec<_>>();
+    assert!(pairing(3).iter().enumerate().filter(|&(p, &j)| p as u64 != j).count() > 32);
+    assert_ne!(pairing(3), pairing(4));
+    for (i, j) in [(0u32, 5u32), (3, 3), (10, 1000), (77, 0)] {
+        let (mut a, mut b) = (sobol(7), sobol(7));
+        a.start(i);
+        a.next_2d();
+        let p = a.next_2d_of(j);
+        b.start(j);
+        b.next_2d();
+        assert_eq!(p, b.next_2d(), "sample {i} borrowing sample {j}'s point");
+        assert_eq!(a.dimension(), b.dimension());
+        assert_eq!(
+            a.next_2d(),
+            {
+                b.start(i);
+                b.next_2d();
+                b.next_2d();
+                b.next_2d()
+            },
+            "later dimensions stay sample {i}'s"
+        );
     }
 }
 

@@ -14,7 +14,7 @@ mod per_pixel;
 mod registry;
 
 pub use adaptive::{MAX_RATE, MIN_ADAPTIVE_PIXELS, MIN_RATE, SampleAllocation};
-pub use per_pixel::{PerPixel, TILE_SIZE, tiles};
+pub use per_pixel::{PerPixel, TILE_SIZE, lens_sample_index, tiles};
 pub use registry::{IntegratorFactory, IntegratorRegistry};
 
 use crate::error::Result;

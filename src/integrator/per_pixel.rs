@@ -6,6 +6,15 @@
 //! warped by the pixel filter around the pixel centre; dimensions 2-3 are the lens sample (drawn only for a thin
 //! lens, skipped otherwise so the integrator's dimensions do not move); the integrator continues from dimension 4.
 //!
+//! **Lens pairing.** The lens point of a sample is the lens dimensions' point of another sample of the same block
+//! (the pixel's whole render, or the set an explicit pattern stratifies over: [`lens_sample_index`]), chosen by a
+//! random permutation of the block, as pbrt-v4's padded Sobol sampler pairs every dimension. The block's lens
+//! points are the same set, so their stratification is kept; what changes is which pixel point each meets. The
+//! Sobol sampler's own shuffle (a nested scramble of the index) pairs the two sets hierarchically, and a defocused
+//! edge — a function of pixel and lens position together — then converged no faster than with random pixel
+//! positions: the thin-lens Cornell box (`scenes/dof.ron`) at 64 spp had 21% more squared error (RMSE 0.0280
+//! against 0.0255 over 17 seeds, higher on every one; Mitsuba's `ldsampler`, which pairs by permutation, 0.0261).
+//!
 //! With `adaptive` settings the first pass is the pilot of a [`SampleAllocation`] and later passes give each pixel
 //! the samples it allots (see [`super::adaptive`]).
 
@@ -29,6 +38,14 @@ pub fn tiles(width: u32, height: u32) -> Vec<Tile> {
         }
     }
     out
+}
+
+/// The sample whose lens point sample `index` uses: `index` is at `position` of a block of `count` consecutive
+/// samples (`position < count`), and the block is permuted by `key` (see the module notes). A bijection of the
+/// block onto itself for every `key`.
+#[inline]
+pub fn lens_sample_index(index: u64, position: u32, count: u32, key: u32) -> u64 {
+    index - position as u64 + crate::sampling::permute(position, count, key ^ 0x6c65_6e73) as u64
 }
 
 /// Adapts a per-ray estimator to the pass-based [`Integrator`] interface.
@@ -109,7 +126,7 @@ impl<T: PixelIntegrator> PerPixel<T> {
                         None => sampler.next_2d(),
                     };
                     let u_lens = if camera.has_lens() {
-                        sampler.next_2d()
+                        sampler.next_2d_of(lens_sample_index(index, base + i, total, key) as u32)
                     } else {
                         sampler.skip_2d();
                         Vec2::ZERO

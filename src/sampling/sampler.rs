@@ -15,7 +15,9 @@
 //!   is stratified in every 2D projection used (one point in each of the 2^k elementary intervals of any shape),
 //!   and in between powers of two the extra samples are a stratified subset of the next power's set.
 //!   The sequence is progressive: sample `i` of a pixel is the same point whatever the total, so passes and time
-//!   budgets continue one sequence.
+//!   budgets continue one sequence. One exception to the shuffle: a thin lens's point (dimensions 2-3) is taken
+//!   from another sample of the pixel's block through a random permutation ([`Sampler::next_2d_of`], `PerPixel`),
+//!   which pairs it with the pixel point better than the nested shuffle does.
 //!
 //! Everything is a pure function of (seed, pixel, sample index, dimension), so images do not depend on threads.
 
@@ -211,6 +213,23 @@ impl Sampler {
         match d.0 {
             DeferredValue::Dim(dim) => self.sobol_1d_at(dim),
             DeferredValue::Value(v) => v,
+        }
+    }
+
+    /// The next 2D request answered with sample `index`'s point of the pixel's sequence instead of the current
+    /// sample's (the Sobol sampler; the others answer as [`Sampler::next_2d`]). A caller that draws it for every
+    /// sample of a block through a permutation of the block's indices keeps the block's point set for these
+    /// dimensions and pairs it with the other dimensions' points at random (the thin lens, `PerPixel`).
+    #[inline]
+    pub fn next_2d_of(&mut self, index: u32) -> Vec2 {
+        match self.kind {
+            SamplerKind::Sobol => {
+                let dim = self.dim;
+                self.dim += 2;
+                self.requests_2d += 1;
+                sobol_2d_cached(&mut self.keys_2d, index.reverse_bits(), dim, self.key)
+            }
+            _ => self.next_2d(),
         }
     }
 
