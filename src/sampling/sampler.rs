@@ -17,7 +17,9 @@
 //!   The sequence is progressive: sample `i` of a pixel is the same point whatever the total, so passes and time
 //!   budgets continue one sequence. One exception to the shuffle: a thin lens's point (dimensions 2-3) is taken
 //!   from another sample of the pixel's block through a random permutation ([`Sampler::next_2d_of`], `PerPixel`),
-//!   which pairs it with the pixel point better than the nested shuffle does.
+//!   which pairs it with the pixel point better than the nested shuffle does. So with a lens, sample `i`'s lens
+//!   point depends on its block (the pixel's total samples): the same for threads, shards and resumes, which share
+//!   the block, but not progressive across totals.
 //!
 //! Everything is a pure function of (seed, pixel, sample index, dimension), so images do not depend on threads.
 
