@@ -45,6 +45,20 @@ impl Scene {
         self.intersect_opaque(ray)
     }
 
+    /// The closest hit of each of `rays` into `out` (as long as `rays`): rays traced together, such as one pixel's
+    /// camera rays, go down the accelerator as a packet ([`crate::accel::Accelerator::intersect_packet`]). The same
+    /// hits as [`Scene::intersect`] ray by ray, except that of two surfaces at exactly the same distance either may
+    /// be reported.
+    pub fn intersect_packet(&self, rays: &[Ray], out: &mut [Option<Hit>]) {
+        if self.prims.has_alpha() || !self.prims.planes.is_empty() {
+            for (o, r) in out.iter_mut().zip(rays) {
+                *o = self.intersect(r);
+            }
+            return;
+        }
+        self.accel.intersect_packet(&self.prims, rays, out);
+    }
+
     #[inline]
     fn intersect_opaque(&self, ray: &Ray) -> Option<Hit> {
         let hit = self.accel.intersect(&self.prims, ray);

@@ -217,3 +217,60 @@ fn rays_moving_away_from_a_leafs_slab_skip_it_without_changing_any_answer() {
         assert!(hits > all.len() / 3, "{name}: only {hits} of {} rays hit: the test would be weak", all.len());
     }
 }
+
+/// Rays traced sixteen at a time (`Accelerator::intersect_packet`, the wide BVH's packet traversal) get the closest
+/// hit each would get alone: the same distance bit for bit and, but for two primitives at exactly the same distance,
+/// the same primitive and barycentrics. Checked on coherent packets (a pixel's camera rays, which the packet
+/// traversal is for) and incoherent ones (random rays with finite and infinite `tmax`, rays spawned from surfaces
+/// with the `leaves` hint, a last packet of fewer than sixteen), on triangle-only and sphere scenes and the bunny.
+#[test]
+fn packets_of_rays_get_the_closest_hit_each_ray_gets_alone() {
+    let paths = ["scenes/cornell_box.ron", "scenes/cornell_rough.ron"]
+        .map(|p| std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(p));
+    let mut apps: Vec<prism::App> = paths.iter().map(|p| setup_file(p, AccelKind::Bvh)).collect();
+    apps.push(setup_ron(&bunny_scene_text(), AccelKind::Bvh));
+    for app in &apps {
+        let s = scene(app);
+        let mut rng = Rng::new(7, 1);
+        // A pixel's camera rays, every 7th pixel of every 7th row.
+        let mut all: Vec<Ray> = vec![];
+        for y in (0..s.camera.height).step_by(7) {
+            for x in (0..s.camera.width).step_by(7) {
+                for _ in 0..16 {
+                    let film = glam::Vec2::new(x as f32 + rng.next_f32(), y as f32 + rng.next_f32());
+                    all.push(s.camera.generate_ray(film));
+                }
+            }
+        }
+        let coherent = all.len();
+        all.extend(rays(s, 3000, 13));
+        all.extend(spawned_rays(s, 2000, 17));
+        all.truncate(all.len() / 16 * 16 - 3);
+        let mut packed = vec![None; all.len()];
+        s.accel.intersect_packet(&s.prims, &all, &mut packed);
+        let (mut hits, mut ties) = (0, 0);
+        for (i, (r, p)) in all.iter().zip(&packed).enumerate() {
+            let alone = s.accel.intersect(&s.prims, r);
+            match (alone, p) {
+                (None, None) => {}
+                (Some(a), Some(p)) => {
+                    hits += 1;
+                    assert_eq!(a.t.to_bits(), p.t.to_bits(), "ray {i} ({}): distance", i < coherent);
+                    if a.prim == p.prim {
+                        let bits = |h: Hit| (h.b1.to_bits(), h.b2.to_bits());
+                        assert_eq!(bits(a), bits(*p), "ray {i}: barycentrics {a:?} vs {p:?}");
+                    } else {
+                        // A tie: the packet's primitive is hit at exactly that distance too.
+                        let wt = prism::geometry::WatertightRay::new(r);
+                        let again = s.prims.intersect_bounded(p.prim, r, &wt).map(|h| h.t.to_bits());
+                        assert_eq!(again, Some(p.t.to_bits()), "ray {i}: {a:?} vs {p:?} is not a tie");
+                        ties += 1;
+                    }
+                }
+                _ => panic!("ray {i} ({:?}): alone {alone:?}, in a packet {p:?}", r),
+            }
+        }
+        assert!(hits > 2000, "too few hits ({hits}) for a test");
+        assert!(ties * 100 <= hits, "{ties} ties in {hits} hits");
+    }
+}

@@ -83,4 +83,19 @@ impl PixelIntegrator for Envlight {
     fn radiance(&self, scene: &Scene, ray: crate::geometry::Ray, sampler: &mut crate::sampling::Sampler) -> glam::Vec3 {
         self.tracer.as_ref().map_or(glam::Vec3::ZERO, |t| t.radiance(scene, ray, sampler))
     }
+
+    fn takes_camera_hits(&self) -> bool {
+        true
+    }
+
+    #[inline]
+    fn radiance_from(
+        &self,
+        scene: &Scene,
+        ray: crate::geometry::Ray,
+        hit: Option<crate::primitives::Hit>,
+        sampler: &mut crate::sampling::Sampler,
+    ) -> glam::Vec3 {
+        self.tracer.as_ref().map_or(glam::Vec3::ZERO, |t| t.radiance_from(scene, ray, hit, sampler))
+    }
 }

@@ -12,7 +12,7 @@ use crate::bsdf::Bsdf;
 use crate::geometry::Ray;
 use crate::integrator::PixelIntegrator;
 use crate::lights::LightSampler;
-use crate::primitives::NO_LIGHT;
+use crate::primitives::{Hit, NO_LIGHT};
 use crate::sampling::{Sampler, power_heuristic};
 use crate::scene::Scene;
 use glam::{Vec3, Vec3A};
@@ -47,7 +47,23 @@ impl PathTracer {
 }
 
 impl PixelIntegrator for PathTracer {
-    fn radiance(&self, scene: &Scene, mut ray: Ray, sampler: &mut Sampler) -> Vec3 {
+    fn radiance(&self, scene: &Scene, ray: Ray, sampler: &mut Sampler) -> Vec3 {
+        self.path(scene, ray, None, sampler)
+    }
+
+    fn takes_camera_hits(&self) -> bool {
+        true
+    }
+
+    fn radiance_from(&self, scene: &Scene, ray: Ray, hit: Option<Hit>, sampler: &mut Sampler) -> Vec3 {
+        self.path(scene, ray, Some(hit), sampler)
+    }
+}
+
+impl PathTracer {
+    /// The path from camera ray `ray`, whose closest hit is `first` if already traced.
+    #[inline(always)]
+    fn path(&self, scene: &Scene, mut ray: Ray, mut first: Option<Option<Hit>>, sampler: &mut Sampler) -> Vec3 {
         let max_depth = self.params.max_depth;
         let mut l = Vec3::ZERO;
         let mut beta = Vec3::ONE;
@@ -65,7 +81,11 @@ impl PixelIntegrator for PathTracer {
             let (u_choice, u_light) = (sampler.defer_1d(), sampler.next_2d());
             let (u_lobe, u_bsdf) = (sampler.defer_1d(), sampler.next_2d());
             let u_rr = sampler.defer_1d();
-            let Some(s) = scene.trace(&ray) else {
+            let traced = match first.take() {
+                Some(hit) => hit.map(|h| scene.prims.surface(&ray, &h)),
+                None => scene.trace(&ray),
+            };
+            let Some(s) = traced else {
                 if let Some(env) = &scene.lights.environment {
                     let le = env.eval(ray.dir);
                     let light_pdf = match &prev {

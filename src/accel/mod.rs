@@ -37,7 +37,7 @@ pub use bvh::BvhAccel;
 pub use grid::{CellHit, GridCell, UniformGrid};
 pub use kdtree::{KdParams, KdTree};
 pub use tri_box::triangle_overlaps_box;
-pub use wide_bvh::{Candidate as BvhCandidate, SPLIT_SAMPLES_PER_PRIMITIVE, SpatialSplits, WideBvh};
+pub use wide_bvh::{Candidate as BvhCandidate, PACKET, SPLIT_SAMPLES_PER_PRIMITIVE, SpatialSplits, WideBvh};
 pub use work::{NoCount, TraversalWork, WorkCounter};
 
 use crate::error::{PrismError, Result};
@@ -65,6 +65,14 @@ pub trait Accelerator: Send + Sync {
     fn occluded(&self, prims: &Primitives, ray: &Ray) -> bool;
     /// `intersect`, adding the nodes/cells visited and primitives tested to `work` (slower; for heat maps).
     fn intersect_counted(&self, prims: &Primitives, ray: &Ray, work: &mut TraversalWork) -> Option<Hit>;
+    /// The closest hit of each of `rays` into `out` (as long as `rays`), for rays that are traced together (a
+    /// pixel's camera rays): the same hits as [`Accelerator::intersect`] ray by ray (which this default does),
+    /// except that of two primitives at exactly the same distance either may be reported.
+    fn intersect_packet(&self, prims: &Primitives, rays: &[Ray], out: &mut [Option<Hit>]) {
+        for (o, r) in out.iter_mut().zip(rays) {
+            *o = self.intersect(prims, r);
+        }
+    }
     fn stats(&self) -> AccelStats;
 }
 
@@ -135,6 +143,12 @@ impl Accel {
     #[inline]
     pub fn occluded(&self, prims: &Primitives, ray: &Ray) -> bool {
         dispatch!(self, a => a.occluded(prims, ray))
+    }
+
+    /// Closest hits of rays traced together ([`Accelerator::intersect_packet`]).
+    #[inline]
+    pub fn intersect_packet(&self, prims: &Primitives, rays: &[Ray], out: &mut [Option<Hit>]) {
+        dispatch!(self, a => a.intersect_packet(prims, rays, out))
     }
 
     /// Closest hit, counting the traversal work into `work`.

@@ -107,6 +107,14 @@ impl WatertightRay {
         ([v(self.ox), v(self.oy), v(self.oz)], [row(&self.rows[0]), row(&self.rows[1]), row(&self.rows[2])])
     }
 
+    /// The ray's origin and the shear/permutation rows (coefficient c of row r at `[r][c]`) as plain numbers, for
+    /// kernels that test many rays at once lane by lane (the wide BVH's ray packets).
+    #[inline(always)]
+    pub fn coefficients(&self) -> ([f32; 3], [[f32; 3]; 3]) {
+        let row = |r: &[Vec3A; 3]| [r[0].x, r[1].x, r[2].x];
+        ([self.ox.x, self.oy.x, self.oz.x], [row(&self.rows[0]), row(&self.rows[1]), row(&self.rows[2])])
+    }
+
     /// Intersect the triangle `(p0, p1, p2)`; hits with `t` in `(0, tmax)` only.
     #[inline(always)]
     pub fn intersect(&self, p0: Vec3A, p1: Vec3A, p2: Vec3A, tmax: f32) -> Option<TriangleHit> {

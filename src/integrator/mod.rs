@@ -20,6 +20,7 @@ pub use registry::{IntegratorFactory, IntegratorRegistry};
 use crate::error::Result;
 pub use crate::film::ShardAxis;
 use crate::geometry::Ray;
+use crate::primitives::Hit;
 use crate::sampling::Sampler;
 use crate::scene::Scene;
 use crate::settings::RenderSettings;
@@ -132,4 +133,16 @@ pub trait PixelIntegrator: Send + Sync {
     /// Radiance along `ray` (towards its origin), drawing every random decision from `sampler` (its camera
     /// dimensions are already used: the next request is the integrator's first).
     fn radiance(&self, scene: &Scene, ray: Ray, sampler: &mut Sampler) -> Vec3;
+
+    /// Whether [`PixelIntegrator::radiance_from`] uses the camera ray's hit it is given: `PerPixel` then traces a
+    /// pixel's camera rays together, sixteen at a time ([`Scene::intersect_packet`]), before their paths.
+    fn takes_camera_hits(&self) -> bool {
+        false
+    }
+
+    /// [`PixelIntegrator::radiance`] with the closest hit of `ray` already found (`hit`: what [`Scene::intersect`]
+    /// gives, or a surface at exactly the same distance). By default the hit is not used.
+    fn radiance_from(&self, scene: &Scene, ray: Ray, _hit: Option<Hit>, sampler: &mut Sampler) -> Vec3 {
+        self.radiance(scene, ray, sampler)
+    }
 }

@@ -19,8 +19,10 @@
 //! the samples it allots (see [`super::adaptive`]).
 
 use super::{Integrator, PassInfo, PassOutput, PixelIntegrator, SampleAllocation, Tile, TileSamples};
+use crate::accel::PACKET;
 use crate::error::Result;
-use crate::sampling::{Rng, Sampler, hash_u64};
+use crate::geometry::Ray;
+use crate::sampling::{Rng, Sampler, SamplerKind, hash_u64};
 use crate::scene::Scene;
 use crate::settings::RenderSettings;
 use glam::{Vec2, Vec3};
@@ -55,6 +57,22 @@ pub struct PerPixel<T> {
     allocation: Option<SampleAllocation>,
 }
 
+/// One pixel's samples in a pass, and their sums so far.
+struct PixelSamples {
+    sampler: Sampler,
+    /// The pass's samples of the pixel's sequence: `first..end`.
+    first: u64,
+    end: u64,
+    /// The set an explicit pattern (and the lens pairing) stratifies over: indices `base..base + total`, keyed by
+    /// `key`.
+    base: u32,
+    total: u32,
+    key: u32,
+    centre: Vec2,
+    sum: Vec3,
+    sum_sq: Vec3,
+}
+
 /// One tile's sums, and for the pilot of an adaptive render the sums of squared samples.
 struct TileOut {
     samples: TileSamples,
@@ -67,9 +85,56 @@ impl<T: PixelIntegrator> PerPixel<T> {
         PerPixel { estimator, allocation: None }
     }
 
+    /// Pixel `(x, y)`'s samples in this pass: its sampler, the range of its sequence, and the set an explicit
+    /// pattern stratifies them over.
+    fn pixel_samples(&self, pass: &PassInfo, x: u32, y: u32) -> PixelSamples {
+        let s = pass.settings;
+        let next_nominal = pass.first_sample + pass.spp as u64;
+        let pixel = y as u64 * s.width as u64 + x as u64;
+        let px = pixel as usize;
+        let pixel_key = hash_u64(s.seed ^ hash_u64(pixel)) as u32;
+        let mut sampler = Sampler::new(s.sampler, pixel_key, Rng::for_pixel(s.seed, pixel, pass.index as u64));
+        // This pass's samples of the pixel's sequence (the nominal range, or the allocation's), and the set an
+        // explicit pattern stratifies them over: `(first index, count, key)`. With a known total, the pixel's whole
+        // render (its key the same in every pass); in an adaptive render the pilot, then the pixel's samples after
+        // it (their count is known once the pilot is); with a time budget, the pass.
+        let (first, end, strata) = match &self.allocation {
+            Some(a) => {
+                let (f, e) = (a.samples_before(px, pass.first_sample), a.samples_before(px, next_nominal));
+                let rest =
+                    s.spp.map(|n| (f - a.pilot, a.samples_before(px, n as u64) - a.pilot, pixel_key ^ 0x5bd1_e995));
+                (f, e, rest)
+            }
+            None if s.adaptive => (pass.first_sample, next_nominal, Some((0, pass.spp as u64, pixel_key))),
+            None => (pass.first_sample, next_nominal, s.spp.map(|n| (pass.first_sample, n as u64, pixel_key))),
+        };
+        let (base, total, key) = match strata {
+            Some((b, n, k)) => (b as u32, n.min(u32::MAX as u64) as u32, k),
+            None => (0, (end - first) as u32, sampler.rng().next_u32()),
+        };
+        PixelSamples {
+            sampler,
+            first,
+            end,
+            base,
+            total,
+            key,
+            centre: Vec2::new(x as f32 + 0.5, y as f32 + 0.5),
+            sum: Vec3::ZERO,
+            sum_sq: Vec3::ZERO,
+        }
+    }
+
     /// One tile of the pass; `None` when `cancel` was set while it was rendered (a tile cut short is not kept:
     /// cancellation is checked after every sample, so a tile of heavy pixels stops within one sample). `squares`:
     /// also sum the squared samples (the adaptive pilot).
+    ///
+    /// A row of the tile at a time: its pixels' samples in order, pixel after pixel, in chunks. Where the integrator
+    /// takes camera hits and the sampler's numbers are pure functions of (sample, dimension) — the Sobol sampler
+    /// without an explicit pixel pattern — a chunk is up to sixteen samples (one pixel's, or neighbouring pixels'
+    /// when a pass gives each fewer), whose camera rays are made first and traced together as a packet
+    /// ([`Scene::intersect_packet`]), then their paths follow; no random number changes. Otherwise a chunk is one
+    /// sample, its camera ray and path back to back.
     fn render_tile(
         &self,
         scene: &Scene,
@@ -86,67 +151,81 @@ impl<T: PixelIntegrator> PerPixel<T> {
         let mut counts = Vec::with_capacity(n);
         let mut sq = Vec::with_capacity(if squares { n } else { 0 });
         let mut nonfinite = 0;
-        let next_nominal = pass.first_sample + pass.spp as u64;
+        let packets = self.estimator.takes_camera_hits() && pattern.is_none() && s.sampler == SamplerKind::Sobol;
+        let chunk = if packets { PACKET } else { 1 };
+        let mut rays = [Ray::new(glam::Vec3A::ZERO, glam::Vec3A::Z); PACKET];
+        let mut hits = [None; PACKET];
+        let mut owner = [(0usize, 0u64); PACKET];
+        // The camera ray of sample `index` of pixel `p` (its dimensions 0-3 drawn from the pixel's sampler).
+        let camera_ray = |p: &mut PixelSamples, index: u64| {
+            let i = (index - p.first) as u32;
+            p.sampler.start(index as u32);
+            let u_pixel = match pattern {
+                Some(pat) => {
+                    p.sampler.skip_2d();
+                    pat.offset(p.base + i, p.total, p.key, p.sampler.rng())
+                }
+                None => p.sampler.next_2d(),
+            };
+            let u_lens = if camera.has_lens() {
+                p.sampler.next_2d_of(lens_sample_index(index, p.base + i, p.total, p.key) as u32)
+            } else {
+                p.sampler.skip_2d();
+                Vec2::ZERO
+            };
+            camera.generate_ray_lens(p.centre + s.filter.warp(u_pixel), u_lens)
+        };
         for y in tile.y0..tile.y0 + tile.h {
-            for x in tile.x0..tile.x0 + tile.w {
-                let pixel = y as u64 * s.width as u64 + x as u64;
-                let px = pixel as usize;
-                let pixel_key = hash_u64(s.seed ^ hash_u64(pixel)) as u32;
-                let mut sampler = Sampler::new(s.sampler, pixel_key, Rng::for_pixel(s.seed, pixel, pass.index as u64));
-                // This pass's samples of the pixel's sequence (the nominal range, or the allocation's), and the
-                // set an explicit pattern stratifies them over: `(first index, count, key)`. With a known total, the
-                // pixel's whole render (its key the same in every pass); in an adaptive render the pilot, then the
-                // pixel's samples after it (their count is known once the pilot is); with a time budget, the pass.
-                let (first, end, strata) = match &self.allocation {
-                    Some(a) => {
-                        let (f, e) = (a.samples_before(px, pass.first_sample), a.samples_before(px, next_nominal));
-                        let rest = s
-                            .spp
-                            .map(|n| (f - a.pilot, a.samples_before(px, n as u64) - a.pilot, pixel_key ^ 0x5bd1_e995));
-                        (f, e, rest)
+            let mut row: Vec<PixelSamples> =
+                (tile.x0..tile.x0 + tile.w).map(|x| self.pixel_samples(pass, x, y)).collect();
+            let (mut k, mut index) = (0, row[0].first);
+            loop {
+                // The next chunk of the row's samples, pixel after pixel.
+                let mut m = 0;
+                while m < chunk && k < row.len() {
+                    if index >= row[k].end {
+                        k += 1;
+                        index = row.get(k).map_or(0, |p| p.first);
+                        continue;
                     }
-                    None if s.adaptive => (pass.first_sample, next_nominal, Some((0, pass.spp as u64, pixel_key))),
-                    None => (pass.first_sample, next_nominal, s.spp.map(|n| (pass.first_sample, n as u64, pixel_key))),
-                };
-                let (base, total, key) = match strata {
-                    Some((b, n, k)) => (b as u32, n.min(u32::MAX as u64) as u32, k),
-                    None => (0, (end - first) as u32, sampler.rng().next_u32()),
-                };
-                let centre = Vec2::new(x as f32 + 0.5, y as f32 + 0.5);
-                let mut sum = Vec3::ZERO;
-                let mut sum_sq = Vec3::ZERO;
-                for index in first..end {
-                    let i = (index - first) as u32;
-                    sampler.start(index as u32);
-                    let u_pixel = match pattern {
-                        Some(p) => {
-                            sampler.skip_2d();
-                            p.offset(base + i, total, key, sampler.rng())
-                        }
-                        None => sampler.next_2d(),
-                    };
-                    let u_lens = if camera.has_lens() {
-                        sampler.next_2d_of(lens_sample_index(index, base + i, total, key) as u32)
+                    rays[m] = camera_ray(&mut row[k], index);
+                    owner[m] = (k, index);
+                    (m, index) = (m + 1, index + 1);
+                }
+                if m == 0 {
+                    break;
+                }
+                if packets {
+                    scene.intersect_packet(&rays[..m], &mut hits[..m]);
+                }
+                for j in 0..m {
+                    let (k, index) = owner[j];
+                    let p = &mut row[k];
+                    let l = if packets {
+                        // The camera dimensions are drawn: the path goes on from the integrator's first.
+                        p.sampler.start(index as u32);
+                        p.sampler.skip_2d();
+                        p.sampler.skip_2d();
+                        self.estimator.radiance_from(scene, rays[j], hits[j], &mut p.sampler)
                     } else {
-                        sampler.skip_2d();
-                        Vec2::ZERO
+                        self.estimator.radiance(scene, rays[j], &mut p.sampler)
                     };
-                    let ray = camera.generate_ray_lens(centre + s.filter.warp(u_pixel), u_lens);
-                    let l = self.estimator.radiance(scene, ray, &mut sampler);
                     if cancel.load(Ordering::Relaxed) {
                         return None;
                     }
                     if l.is_finite() {
-                        sum += l;
-                        sum_sq += l * l;
+                        p.sum += l;
+                        p.sum_sq += l * l;
                     } else {
                         nonfinite += 1;
                     }
                 }
-                sums.push(sum);
-                counts.push((end - first) as u32);
+            }
+            for p in row {
+                sums.push(p.sum);
+                counts.push((p.end - p.first) as u32);
                 if squares {
-                    sq.push(sum_sq);
+                    sq.push(p.sum_sq);
                 }
             }
         }

@@ -42,6 +42,9 @@ use std::time::Duration;
 mod boxes;
 mod build;
 mod leaf;
+mod packet;
+
+pub use packet::PACKET;
 
 pub(crate) use leaf::MAX_PRIMITIVES;
 use leaf::{LeafPacket, NO_SLAB, leaf_axis, leaf_packets, leaf_slab, leaf_word, moving_away, without_slab};
@@ -600,6 +603,19 @@ impl Accelerator for WideBvh {
 
     fn intersect_counted(&self, prims: &Primitives, ray: &Ray, work: &mut TraversalWork) -> Option<Hit> {
         self.run::<false, _>(prims, ray, work)
+    }
+
+    /// Sixteen rays at a time down the tree together (`packet.rs`), where the CPU has AVX2 or AVX-512.
+    fn intersect_packet(&self, prims: &Primitives, rays: &[Ray], out: &mut [Option<Hit>]) {
+        for (rays, out) in rays.chunks(PACKET).zip(out.chunks_mut(PACKET)) {
+            if self.avx.is_some() {
+                packet::intersect_packet(self, prims, rays, out);
+            } else {
+                for (o, r) in out.iter_mut().zip(rays) {
+                    *o = self.intersect(prims, r);
+                }
+            }
+        }
     }
 
     fn stats(&self) -> AccelStats {
