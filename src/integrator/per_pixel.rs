@@ -15,6 +15,13 @@
 //! positions: the thin-lens Cornell box (`scenes/dof.ron`) at 64 spp had 21% more squared error (RMSE 0.0280
 //! against 0.0255 over 17 seeds, higher on every one; Mitsuba's `ldsampler`, which pairs by permutation, 0.0261).
 //!
+//! **Camera-ray packets.** A tile is rendered a row at a time, its pixels' samples in order in chunks. Where the
+//! integrator takes camera hits ([`PixelIntegrator::takes_camera_hits`]) and the sampler's numbers are pure
+//! functions of (sample, dimension) — the Sobol sampler without an explicit pattern — a chunk holds up to sixteen
+//! samples (one pixel's, or its row neighbours' when a pass gives each fewer), whose camera rays go down the
+//! accelerator together ([`Scene::intersect_packet`]) before their paths: one descent for rays that take nearly the
+//! same path through the tree (Cornell box 4% faster), with the same numbers drawn, so the same image.
+//!
 //! With `adaptive` settings the first pass is the pilot of a [`SampleAllocation`] and later passes give each pixel
 //! the samples it allots (see [`super::adaptive`]).
 

@@ -13,7 +13,7 @@
 //! The cost of a wide tree, relative to its root's box: every node's box test weighs its box's area, every leaf
 //! its box's area times its packets (the expected number of node tests and packet tests of a ray through the root
 //! box, by the surface-area heuristic). It ranked the two candidates the way the bench's rays did on every scene
-//! measured (`docs/performance_log.md`). The two builds run side by side (`rayon::join`); inputs that make
+//! measured (`docs/performance_log_early.md`). The two builds run side by side (`rayon::join`); inputs that make
 //! PLOC degenerate (many primitives in one Morton cell) get the top-down build alone, with its robust binning.
 
 use super::{EMPTY, LEAF_BIT, Node, WIDTH, WideBvh, leaf_packets};

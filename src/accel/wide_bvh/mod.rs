@@ -26,6 +26,10 @@
 //! at the first hit. A leaf's triangles that survive the pre-filter are finished four at a time when two or more do
 //! (closest hit); a lone survivor is read from its packet by a permute, or by a branch on its lane for rays marked
 //! [`Ray::coherent`] (camera rays, which predict it).
+//!
+//! Packets (`packet.rs`): up to sixteen coherent rays (a pixel's camera rays) go down the tree together, every box
+//! and triangle tested against all of them lane by lane ([`Accelerator::intersect_packet`]); each ray gets its
+//! lone query's closest hit.
 
 use super::work::{NoCount, TraversalWork, WorkCounter};
 use super::{AccelStats, Accelerator};
