@@ -153,7 +153,10 @@ impl<'a> Packet<'a> {
             let delta_e = 2.0 * (gamma(2) * max_xt * max_yt + delta_y * max_xt + delta_x * max_yt);
             let max_e = amax([u, w1, w]);
             let delta_t = 3.0 * (gamma(3) * max_e * max_zt + delta_e * max_zt + delta_z * max_e) * inv.abs();
-            hit[l] = !mixed && det != 0.0 && in_range && t > delta_t;
+            // As the scalar kernel decides (`t <= delta_t` rejects; a NaN distance is not rejected there either).
+            #[allow(clippy::neg_cmp_op_on_partial_ord)]
+            let far_enough = !(t <= delta_t);
+            hit[l] = !mixed && det != 0.0 && in_range && far_enough;
             tt[l] = t;
             bb1[l] = w1 * inv;
             bb2[l] = w * inv;
