@@ -45,7 +45,7 @@ fn lanes_where(f: impl Fn(usize) -> bool) -> u32 {
 }
 
 impl<'a> Packet<'a> {
-    /// The packet of `rays` (1 to [`PACKET`]; lanes past them repeat the first ray and are never active).
+    /// The packet of `rays` (1 to [`PACKET`]; the lanes past them hold zeros and are never active).
     #[inline(always)]
     fn new(rays: &'a [Ray]) -> Self {
         let mut p = Packet {
