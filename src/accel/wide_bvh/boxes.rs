@@ -67,14 +67,22 @@ enum Plane {
     MaxZ = 5,
 }
 
+/// The box test's reciprocal of direction `dir`: components beyond +-1e25 clamped to it with the direction's
+/// sign, -0 treated as +0 (the one-ray test and the packet test share it).
+#[inline(always)]
+pub(super) fn clamped_recip(dir: Vec3A) -> Vec3A {
+    const BIG: f32 = 1e25;
+    let d = dir + Vec3A::ZERO; // -0 becomes +0
+    let r = d.recip();
+    Vec3A::select(r.abs().cmpgt(Vec3A::splat(BIG)), Vec3A::splat(BIG).copysign(d), r)
+}
+
 /// The reciprocal direction with tiny components clamped, and per axis whether the near plane is the box's max
 /// (a negative direction): `(inv, near planes, far planes)`.
 #[inline(always)]
 fn slabs(ray: &Ray) -> (Vec3A, [Plane; 3], [Plane; 3]) {
-    const BIG: f32 = 1e25;
     let d = ray.dir + Vec3A::ZERO; // -0 becomes +0
-    let r = d.recip();
-    let inv = Vec3A::select(r.abs().cmpgt(Vec3A::splat(BIG)), Vec3A::splat(BIG).copysign(d), r);
+    let inv = clamped_recip(ray.dir);
     let pick = |neg: bool, min: Plane, max: Plane| if neg { (max, min) } else { (min, max) };
     let (nx, fx) = pick(d.x < 0.0, Plane::MinX, Plane::MaxX);
     let (ny, fy) = pick(d.y < 0.0, Plane::MinY, Plane::MaxY);

@@ -13,6 +13,7 @@
 //! leaves in its own order). Box tests are the one-ray test's (conservative, so no leaf holding a lane's closest hit
 //! is skipped); a node's children are visited nearest first by the smallest entry distance over their lanes.
 
+use super::boxes::clamped_recip;
 use super::leaf::{NO_SLAB, leaf_axis, leaf_packets, moving_away};
 use super::{EMPTY, LEAF_BIT, STACK, WIDTH, WideBvh};
 use crate::geometry::{Ray, TriSoa, WatertightRay, gamma};
@@ -59,14 +60,10 @@ impl<'a> Packet<'a> {
             b1: [0.0; PACKET],
             b2: [0.0; PACKET],
         };
-        for l in 0..PACKET {
-            let ray = rays.get(l).unwrap_or(&rays[0]);
+        for (l, ray) in rays.iter().enumerate().take(PACKET) {
             let (origin, r) = WatertightRay::new(ray).coefficients();
-            // The box test's reciprocal, as the one-ray test computes it (tiny components clamped, -0 as +0).
-            let d = ray.dir + glam::Vec3A::ZERO;
-            let rcp = d.recip();
-            let big = glam::Vec3A::splat(1e25);
-            let inv = glam::Vec3A::select(rcp.abs().cmpgt(big), big.copysign(d), rcp);
+            // The box test's reciprocal, as the one-ray test computes it.
+            let inv = clamped_recip(ray.dir);
             for a in 0..3 {
                 p.o[a][l] = origin[a];
                 p.inv[a][l] = inv[a];
@@ -76,10 +73,6 @@ impl<'a> Packet<'a> {
             }
             p.leaves[l] = ray.leaves;
             p.end[l] = ray.tmax;
-            if l + 1 >= rays.len() {
-                // The rest are never active.
-                break;
-            }
         }
         p
     }
