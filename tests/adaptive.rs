@@ -10,11 +10,17 @@ use prism::settings::Overrides;
 
 /// Render the Cornell box at 64x64; the image and the film's per-pixel sample counts.
 fn cornell(spp: u32, adaptive: bool) -> (prism::io::Image, Vec<u64>) {
+    cornell_in_passes(spp, adaptive, None)
+}
+
+/// [`cornell`] in `passes` passes (`None`: the default layout).
+fn cornell_in_passes(spp: u32, adaptive: bool, passes: Option<u32>) -> (prism::io::Image, Vec<u64>) {
     let o = Overrides {
         size: Some((64, 64)),
         spp: Some(spp),
         seed: Some(5),
         adaptive: Some(adaptive),
+        passes,
         ..Default::default()
     };
     let mut app = app_from_file(&scene_path("cornell_box.ron"), o);
@@ -32,7 +38,7 @@ fn adaptive_sampling_is_unbiased_and_lowers_the_cornell_error_at_equal_samples()
     let (uniform, uniform_counts) = cornell(spp, false);
     let (adaptive, counts) = cornell(spp, true);
     assert!(uniform_counts.iter().all(|&c| c == spp as u64));
-    // The budget: spp x pixels to within the rounding dither; the pilot (pass 0: 32 / 16 passes = 2 spp) is uniform.
+    // The budget: spp x pixels to within the rounding dither; the pilot (pass 0: 32 / 16 = 2 spp) is uniform.
     let total: u64 = counts.iter().sum();
     let budget = spp as u64 * counts.len() as u64;
     assert!((total as f64 - budget as f64).abs() < 0.01 * budget as f64, "{total} samples for a budget of {budget}");
@@ -52,6 +58,52 @@ fn adaptive_sampling_is_unbiased_and_lowers_the_cornell_error_at_equal_samples()
     }
     eprintln!("Cornell 64x64 at {spp} spp: RMSE uniform {:.5}, adaptive {:.5}", u.rmse, a.rmse);
     assert!(a.rmse < 0.85 * u.rmse, "adaptive RMSE {} not below uniform {}", a.rmse, u.rmse);
+}
+
+#[test]
+fn the_default_pass_layout_renders_every_sample_once_and_keeps_the_pilot() {
+    use prism::settings::{MIN_PASS_SPP, RenderSettings, default_pass_layout};
+    for spp in [1, 2, 3, 15, 16, 17, 31, 32, 33, 64, 100, 255, 256, 257, 1000, 4096, 65_537] {
+        for adaptive in [false, true] {
+            for shards in [1, 2, 3, 8] {
+                let (passes, pilot_spp) = default_pass_layout(spp, adaptive, shards);
+                let s = RenderSettings { spp: Some(spp), passes, pilot_spp, adaptive, ..Default::default() };
+                s.validate().unwrap_or_else(|e| panic!("spp {spp} adaptive {adaptive} shards {shards}: {e}"));
+                let what = format!("spp {spp}, adaptive {adaptive}, {shards} shards: {passes} passes, {pilot_spp:?}");
+                // The passes cover the samples 0..spp of every pixel exactly once, in order.
+                let counts: Vec<u32> = (0..passes).map(|p| s.samples_in_pass(p)).collect();
+                assert!(counts.iter().all(|&c| c >= 1), "{what}: an empty pass in {counts:?}");
+                assert_eq!(counts.iter().map(|&c| c as u64).sum::<u64>(), spp as u64, "{what}: {counts:?}");
+                for p in 0..passes {
+                    assert_eq!(s.samples_before_pass(p + 1), s.samples_before_pass(p) + counts[p as usize] as u64);
+                }
+                // The adaptive pilot keeps its share of the budget (spp / 16, at least 1) whatever the layout.
+                if adaptive && spp > 1 {
+                    assert_eq!(counts[0], (spp / 16).max(1), "{what}: the pilot");
+                }
+                // Passes after the pilot hold a packet's worth of samples per pixel where there are enough samples
+                // and no shards ask for more passes; shards get a pass each where the samples allow.
+                let later = &counts[if pilot_spp.is_some() { 1 } else { 0 }..];
+                if shards == 1 && spp >= 2 * MIN_PASS_SPP {
+                    assert!(later.iter().all(|&c| c >= MIN_PASS_SPP), "{what}: {counts:?}");
+                }
+                assert!(passes >= shards.min(spp), "{what}: fewer passes than shards");
+                assert!(passes <= 16, "{what}");
+            }
+        }
+    }
+}
+
+#[test]
+fn the_pass_layout_does_not_change_which_samples_a_pixel_gets() {
+    // The same pilot (2 of 32 spp) in 16 even passes and in the default layout (a pilot pass, then one of 30): every
+    // pixel gets the same number of samples, the same ones, so the images agree up to the rounding of the f32 sums
+    // each pass hands the film.
+    let (even, even_counts) = cornell_in_passes(32, true, Some(16));
+    let (default, counts) = cornell_in_passes(32, true, None);
+    assert_eq!(counts, even_counts, "per-pixel sample counts");
+    let d = prism::compare::compare(&default, &even).unwrap();
+    assert!(d.rmse < 1e-6, "RMSE between the two layouts {}", d.rmse);
 }
 
 #[test]

@@ -216,25 +216,32 @@ fn resolve_settings(world: &mut World, res: &mut Resources, f: FileSettings) -> 
     // A time budget given without a sample count renders until the budget is spent.
     let spp =
         if o.spp_unlimited && o.spp.is_none() { None } else { Some(o.spp.or(f.spp).unwrap_or(d.spp.unwrap_or(16))) };
-    let default_passes = |n: u32| n.clamp(1, 16);
-    let passes = match (o.passes, spp) {
-        (Some(p), _) => p,
-        (None, Some(n)) if o.spp.is_some() => default_passes(n),
-        (None, Some(n)) => f.passes.map_or(default_passes(n), |p| p.min(n)),
-        (None, None) => u32::MAX,
+    let adaptive = o.adaptive.or(f.adaptive).unwrap_or(d.adaptive);
+    let shards = o.shard.unwrap_or(d.shard).1;
+    // Passes given (on the command line, or in the scene unless the command line sets the sample count) split the
+    // samples evenly; otherwise the default layout, whose adaptive pilot is a first pass of its own.
+    let (passes, pilot_spp) = match (o.passes, spp) {
+        (Some(p), _) => (p, None),
+        (None, None) => (u32::MAX, None),
+        (None, Some(n)) => match f.passes {
+            Some(p) if o.spp.is_none() => (p.min(n), None),
+            _ => crate::settings::default_pass_layout(n, adaptive, shards),
+        },
     };
     let scene_spp = f.spp.unwrap_or(16);
-    let pass_spp = (scene_spp / f.passes.unwrap_or(default_passes(scene_spp)).max(1)).max(1);
+    let pass_spp =
+        (scene_spp / f.passes.unwrap_or(crate::settings::default_pass_layout(scene_spp, false, 1).0).max(1)).max(1);
     res.settings = RenderSettings {
         width,
         height,
         spp,
         passes,
+        pilot_spp,
         pass_spp,
         sampler: o.sampler.or(f.sampler).unwrap_or(d.sampler),
         pattern: o.pattern.or(f.pattern),
         filter: o.filter.or(f.filter).unwrap_or(d.filter),
-        adaptive: o.adaptive.or(f.adaptive).unwrap_or(d.adaptive),
+        adaptive,
         seed: o.seed.or(f.seed).unwrap_or(d.seed),
         time_budget,
         integrator,
