@@ -33,7 +33,8 @@ pub struct RenderArgs {
     /// Total samples per pixel.
     #[arg(long)]
     pub spp: Option<u32>,
-    /// Progressive passes the samples are split into.
+    /// Progressive passes the samples are split into evenly (default: passes of at least 16 samples, at most 16, after
+    /// the adaptive pilot's own pass).
     #[arg(long)]
     pub passes: Option<u32>,
     /// Time budget in seconds: stop after the pass that crosses it (unlimited samples unless --spp is given).

@@ -117,7 +117,7 @@ pub struct RenderDesc<'a> {
     /// Samples per pixel in total.
     #[serde(default)]
     pub spp: Option<u32>,
-    /// Progressive passes the samples are split into.
+    /// Progressive passes the samples are split into evenly (default: `settings::default_pass_layout`).
     #[serde(default)]
     pub passes: Option<u32>,
     /// `independent`, `stratified` or `sobol` (the default).
