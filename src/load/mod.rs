@@ -228,9 +228,11 @@ fn resolve_settings(world: &mut World, res: &mut Resources, f: FileSettings) -> 
             _ => crate::settings::default_pass_layout(n, adaptive, shards),
         },
     };
+    // A time budget keeps its passes small (the scene's samples in up to 16 passes, as before the default layout
+    // grew them): a render stops after the pass that crosses the budget, and convergence curves sample time
+    // through these budgets.
     let scene_spp = f.spp.unwrap_or(16);
-    let pass_spp =
-        (scene_spp / f.passes.unwrap_or(crate::settings::default_pass_layout(scene_spp, false, 1).0).max(1)).max(1);
+    let pass_spp = (scene_spp / f.passes.unwrap_or(scene_spp.clamp(1, 16)).max(1)).max(1);
     res.settings = RenderSettings {
         width,
         height,
