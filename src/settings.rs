@@ -357,14 +357,13 @@ pub const MAX_DEFAULT_PASSES: u32 = 16;
 /// without a sample count keep their small passes (`RenderSettings::pass_spp`).
 pub fn default_pass_layout(spp: u32, adaptive: bool, shards: u32) -> (u32, Option<u32>) {
     let spp = spp.max(1);
-    let split = |n: u32, most: u32| (n / MIN_PASS_SPP).clamp(1, most).max(shards.min(most).min(n));
+    // `n` samples in passes of at least MIN_PASS_SPP, at most `most` of them, but `want` passes where `n` allows.
+    let split = |n: u32, most: u32, want: u32| (n / MIN_PASS_SPP).clamp(1, most).max(want.min(n));
     let pilot = (spp / 16).max(1);
     if !adaptive || pilot >= spp {
-        return (split(spp, MAX_DEFAULT_PASSES), None);
+        return (split(spp, MAX_DEFAULT_PASSES, shards), None);
     }
-    let rest = spp - pilot;
-    let later = (rest / MIN_PASS_SPP).clamp(1, MAX_DEFAULT_PASSES - 1).max(shards.saturating_sub(1).min(rest));
-    (1 + later, Some(pilot))
+    (1 + split(spp - pilot, MAX_DEFAULT_PASSES - 1, shards.saturating_sub(1)), Some(pilot))
 }
 
 /// Command-line overrides of the scene's settings (`None` = keep the scene's).

@@ -27,7 +27,7 @@ use crate::app::{Resources, SceneSource};
 use crate::components::{Camera, Light, MaterialId, Name, Projection, Shape};
 use crate::error::{PrismError, Result};
 use crate::material::Material;
-use crate::settings::{PluginConfig, RenderSettings};
+use crate::settings::{MAX_DEFAULT_PASSES, PluginConfig, RenderSettings, default_pass_layout};
 use glam::Vec3;
 use hecs::World;
 use std::path::Path;
@@ -225,14 +225,14 @@ fn resolve_settings(world: &mut World, res: &mut Resources, f: FileSettings) -> 
         (None, None) => (u32::MAX, None),
         (None, Some(n)) => match f.passes {
             Some(p) if o.spp.is_none() => (p.min(n), None),
-            _ => crate::settings::default_pass_layout(n, adaptive, shards),
+            _ => default_pass_layout(n, adaptive, shards),
         },
     };
     // A time budget keeps its passes small (the scene's samples in up to 16 passes, as before the default layout
     // grew them): a render stops after the pass that crosses the budget, and convergence curves sample time
     // through these budgets.
     let scene_spp = f.spp.unwrap_or(16);
-    let pass_spp = (scene_spp / f.passes.unwrap_or(scene_spp.clamp(1, 16)).max(1)).max(1);
+    let pass_spp = (scene_spp / f.passes.unwrap_or(scene_spp.clamp(1, MAX_DEFAULT_PASSES)).max(1)).max(1);
     res.settings = RenderSettings {
         width,
         height,
