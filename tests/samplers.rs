@@ -1,6 +1,8 @@
 //! Samplers, pixel filters and the thin lens:
 //! - the Sobol sampler stratifies the first 2^k samples of a pixel in every 2D request (one point per elementary
 //!   interval of every shape: a (0,k,2)-net) and every 1D request, at every dimension a path uses;
+//! - points computed sixteen at a time by the vector kernel, and a sampler answering from them, are the one-point
+//!   function's numbers bit for bit;
 //! - its dimensions are uncorrelated with each other and neighbouring pixels' errors are uncorrelated in a render;
 //! - every sampler is unbiased (the white furnace's sphere is 0.8 whatever the sampler), deterministic across
 //!   thread counts, and converges faster with Sobol than independent on a smooth direct-lighting integral;
@@ -14,8 +16,9 @@ use prism::camera::CameraRig;
 use prism::components::{Camera, Projection};
 use prism::integrator::lens_sample_index;
 use prism::sampling::{
-    PixelFilter, Rng, Sampler, SamplerKind, nested_uniform_scramble, sobol_dim1_fast, sobol_dim1_reference,
-    sobol_owen_1d_point, sobol_owen_1d_reversed, sobol_owen_2d, sobol_owen_2d_reference,
+    PixelFilter, Rng, SOBOL_BATCH, Sampler, SamplerKind, SobolBatch, nested_uniform_scramble, sobol_dim1_fast,
+    sobol_dim1_reference, sobol_dim1_reversed, sobol_owen_1d_point, sobol_owen_1d_reversed, sobol_owen_2d,
+    sobol_owen_2d_batch, sobol_owen_2d_keyed, sobol_owen_2d_reference,
 };
 use prism::settings::Overrides;
 
@@ -432,6 +435,68 @@ fn deferred_dimensions_give_the_numbers_next_1d_would() {
                 assert_eq!(b, e.1, "{kind:?} index {index} vertex {v}");
             }
             assert_eq!(eager.dimension(), lazy.dimension());
+        }
+    }
+}
+
+/// The second Sobol dimension without a table (a superset XOR over the index's bits, by Lucas's theorem) is the
+/// generator matrix's product, reversed: checked on every basis vector (both maps are linear over GF(2), so that
+/// proves them equal) and on random indices.
+#[test]
+fn the_table_free_second_sobol_dimension_is_the_generator_matrix() {
+    let mut rng = Rng::new(12, 13);
+    for i in (0..32).map(|b| 1u32 << b).chain((0..4096).map(|_| rng.next_u32())) {
+        assert_eq!(sobol_dim1_reversed(i), sobol_dim1_reference(i).reverse_bits(), "index {i:#x}");
+    }
+}
+
+/// Sixteen Sobol points computed at once (the vector kernel, dispatched for this CPU) are the one-point
+/// function's, bit for bit, in every lane and dimension.
+#[test]
+fn batched_sobol_points_equal_the_one_point_function() {
+    let mut rng = Rng::new(14, 15);
+    for _ in 0..500 {
+        let index_rev: [u32; SOBOL_BATCH] = std::array::from_fn(|_| rng.next_u32());
+        let keys: Vec<[[u32; SOBOL_BATCH]; 3]> =
+            (0..5).map(|_| std::array::from_fn(|_| std::array::from_fn(|_| rng.next_u32()))).collect();
+        let mut out = vec![[[0.0f32; SOBOL_BATCH]; 2]; keys.len()];
+        sobol_owen_2d_batch(&index_rev, &keys, &mut out);
+        for (d, (k, o)) in keys.iter().zip(&out).enumerate() {
+            for l in 0..SOBOL_BATCH {
+                let one = sobol_owen_2d_keyed(index_rev[l], [k[0][l], k[1][l], k[2][l]]);
+                assert_eq!((o[0][l].to_bits(), o[1][l].to_bits()), (one.x.to_bits(), one.y.to_bits()), "{d} {l}");
+            }
+        }
+    }
+}
+
+/// A sampler handed a batch's points answers with the numbers it would have computed: every request of a path
+/// of eight vertices (1D and 2D, the batched dimensions and the others) for sixteen samples of two pixels, with
+/// the batch naming dimensions the path asks for, one it asks for as 1D numbers and one it never reaches.
+#[test]
+fn a_sampler_given_batched_points_gives_the_numbers_it_would_compute() {
+    // Vertex v's dimensions as `envlight` draws them: 1D, 2D, 1D, 2D, 1D from 4 + 7 v.
+    let dims: Vec<u32> = (0..4u32).flat_map(|v| [4 + 7 * v + 1, 4 + 7 * v + 4]).chain([7, 500]).collect();
+    let mut pixels = [sobol(0xabc), sobol(0xdef)];
+    let mut batch = SobolBatch::new(&dims);
+    let owner = |lane: usize| (lane / 10, 3 + lane as u32 % 10);
+    batch.set_lanes(0, 10, &mut pixels[0], 3);
+    batch.set_lanes(10, SOBOL_BATCH - 10, &mut pixels[1], 3);
+    batch.compute();
+    for lane in 0..SOBOL_BATCH {
+        let (p, index) = owner(lane);
+        let (s, mut fresh) = (&mut pixels[p], sobol([0xabc, 0xdef][p]));
+        s.start(index);
+        fresh.start(index);
+        for r in [&mut *s, &mut fresh] {
+            r.skip_2d();
+            r.skip_2d();
+        }
+        batch.load(lane, s);
+        for v in 0..8 {
+            let a = (s.next_1d(), s.next_2d(), s.next_1d(), s.next_2d(), s.next_1d());
+            let b = (fresh.next_1d(), fresh.next_2d(), fresh.next_1d(), fresh.next_2d(), fresh.next_1d());
+            assert_eq!(a, b, "lane {lane} vertex {v}");
         }
     }
 }

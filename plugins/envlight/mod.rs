@@ -98,4 +98,8 @@ impl PixelIntegrator for Envlight {
     ) -> glam::Vec3 {
         self.tracer.as_ref().map_or(glam::Vec3::ZERO, |t| t.radiance_from(scene, ray, hit, sampler))
     }
+
+    fn batched_2d_dims(&self) -> Vec<u32> {
+        self.tracer.as_ref().map_or(Vec::new(), |t| t.batched_2d_dims())
+    }
 }

@@ -13,7 +13,7 @@ use crate::geometry::Ray;
 use crate::integrator::PixelIntegrator;
 use crate::lights::LightSampler;
 use crate::primitives::{Hit, NO_LIGHT};
-use crate::sampling::{Sampler, power_heuristic};
+use crate::sampling::{CAMERA_DIMENSIONS, Sampler, power_heuristic};
 use crate::scene::Scene;
 use glam::{Vec3, Vec3A};
 
@@ -58,7 +58,21 @@ impl PixelIntegrator for PathTracer {
     fn radiance_from(&self, scene: &Scene, ray: Ray, hit: Option<Hit>, sampler: &mut Sampler) -> Vec3 {
         self.path(scene, ray, Some(hit), sampler)
     }
+
+    /// The light and BSDF points of the first `BATCHED_VERTICES` vertices (fewer where `max_depth` ends paths
+    /// sooner): vertex `v` draws its seven dimensions from `CAMERA_DIMENSIONS + 7 v`, its light point at offset 1
+    /// and its BSDF point at offset 4 (see `path`).
+    fn batched_2d_dims(&self) -> Vec<u32> {
+        let vertices = match self.params.max_depth {
+            -1 => BATCHED_VERTICES,
+            d => (d as u32).min(BATCHED_VERTICES),
+        };
+        (0..vertices).flat_map(|v| [CAMERA_DIMENSIONS + 7 * v + 1, CAMERA_DIMENSIONS + 7 * v + 4]).collect()
+    }
 }
+
+/// Path vertices whose Sobol points `PerPixel` computes ahead for a packet's samples (`batched_2d_dims`).
+const BATCHED_VERTICES: u32 = 6;
 
 impl PathTracer {
     /// The path from camera ray `ray`, whose closest hit is `first` if already traced.

@@ -145,4 +145,11 @@ pub trait PixelIntegrator: Send + Sync {
     fn radiance_from(&self, scene: &Scene, ray: Ray, _hit: Option<Hit>, sampler: &mut Sampler) -> Vec3 {
         self.radiance(scene, ray, sampler)
     }
+
+    /// The dimensions of the 2D requests most of its paths make, in the order it makes them: where `PerPixel`
+    /// traces camera rays in packets it computes these Sobol points for the packet's samples together
+    /// ([`crate::sampling::SobolBatch`]; the same numbers, fewer instructions). By default none.
+    fn batched_2d_dims(&self) -> Vec<u32> {
+        Vec::new()
+    }
 }

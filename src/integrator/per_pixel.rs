@@ -29,12 +29,15 @@ use super::{Integrator, PassInfo, PassOutput, PixelIntegrator, SampleAllocation,
 use crate::accel::PACKET;
 use crate::error::Result;
 use crate::geometry::Ray;
-use crate::sampling::{Rng, Sampler, SamplerKind, hash_u64};
+use crate::sampling::{Rng, SOBOL_BATCH, Sampler, SamplerKind, SobolBatch, hash_u64};
 use crate::scene::Scene;
 use crate::settings::RenderSettings;
 use glam::{Vec2, Vec3};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, Ordering};
+
+// A chunk's samples are the Sobol batch's lanes.
+const _: () = assert!(PACKET == SOBOL_BATCH);
 
 pub const TILE_SIZE: u32 = 16;
 
@@ -163,14 +166,24 @@ impl<T: PixelIntegrator> PerPixel<T> {
         let mut rays = [Ray::new(glam::Vec3A::ZERO, glam::Vec3A::Z); PACKET];
         let mut hits = [None; PACKET];
         let mut owner = [(0usize, 0u64); PACKET];
-        // The camera ray of sample `index` of pixel `p` (its dimensions 0-3 drawn from the pixel's sampler).
-        let camera_ray = |p: &mut PixelSamples, index: u64| {
+        // With packets, the chunk's Sobol points are computed together ([`SobolBatch`]): the pixel position (the
+        // batch's first dimension) and those the estimator asks for at its first vertices.
+        let dims: Vec<u32> =
+            if packets { [0].into_iter().chain(self.estimator.batched_2d_dims()).collect() } else { vec![] };
+        let mut batch = SobolBatch::new(&dims);
+        // The camera ray of sample `index` of pixel `p`, lane `lane` of its chunk (its dimensions 0-3 drawn from the
+        // pixel's sampler, the pixel position from the batch where there is one).
+        let camera_ray = |p: &mut PixelSamples, index: u64, lane: usize, batch: &SobolBatch| {
             let i = (index - p.first) as u32;
             p.sampler.start(index as u32);
             let u_pixel = match pattern {
                 Some(pat) => {
                     p.sampler.skip_2d();
                     pat.offset(p.base + i, p.total, p.key, p.sampler.rng())
+                }
+                None if !batch.is_empty() => {
+                    p.sampler.skip_2d();
+                    batch.point(lane, 0)
                 }
                 None => p.sampler.next_2d(),
             };
@@ -195,12 +208,25 @@ impl<T: PixelIntegrator> PerPixel<T> {
                         index = row.get(k).map_or(0, |p| p.first);
                         continue;
                     }
-                    rays[m] = camera_ray(&mut row[k], index);
                     owner[m] = (k, index);
                     (m, index) = (m + 1, index + 1);
                 }
                 if m == 0 {
                     break;
+                }
+                if !batch.is_empty() {
+                    // The lanes pixel by pixel (a pixel's samples in a chunk are consecutive).
+                    let mut lane = 0;
+                    while lane < m {
+                        let (k, index) = owner[lane];
+                        let count = owner[lane..m].iter().take_while(|o| o.0 == k).count();
+                        batch.set_lanes(lane, count, &mut row[k].sampler, index as u32);
+                        lane += count;
+                    }
+                    batch.compute();
+                }
+                for (lane, &(k, index)) in owner[..m].iter().enumerate() {
+                    rays[lane] = camera_ray(&mut row[k], index, lane, &batch);
                 }
                 if packets {
                     scene.intersect_packet(&rays[..m], &mut hits[..m]);
@@ -213,6 +239,7 @@ impl<T: PixelIntegrator> PerPixel<T> {
                         p.sampler.start(index as u32);
                         p.sampler.skip_2d();
                         p.sampler.skip_2d();
+                        batch.load(j, &mut p.sampler);
                         self.estimator.radiance_from(scene, rays[j], hits[j], &mut p.sampler)
                     } else {
                         self.estimator.radiance(scene, rays[j], &mut p.sampler)

@@ -3,6 +3,7 @@
 //! sample patterns (RGSS, stratified jitter, uniform grid, independent), pixel filters, MIS weights, and warps from the
 //! unit square to the domains integrators need, each with its exact pdf (tested by chi-square in `tests/sampling`).
 
+mod batch;
 mod filter;
 mod mis;
 mod pattern;
@@ -12,6 +13,7 @@ mod sampler;
 mod sobol;
 pub mod warp;
 
+pub use batch::{MAX_BATCH_DIMS, SobolBatch};
 pub use filter::{MAX_FILTER_RADIUS, PixelFilter};
 pub use mis::power_heuristic;
 pub use pattern::PixelPattern;
@@ -19,8 +21,9 @@ pub use permute::permute;
 pub use rng::{Rng, hash_u64};
 pub use sampler::{CAMERA_DIMENSIONS, Deferred1d, Sampler, SamplerKind};
 pub use sobol::{
-    nested_uniform_scramble, sobol_dim1_fast, sobol_dim1_reference, sobol_owen_1d_point, sobol_owen_1d_reversed,
-    sobol_owen_2d, sobol_owen_2d_reference,
+    SOBOL_BATCH, nested_uniform_scramble, sobol_dim1_fast, sobol_dim1_reference, sobol_dim1_reversed,
+    sobol_owen_1d_point, sobol_owen_1d_reversed, sobol_owen_2d, sobol_owen_2d_batch, sobol_owen_2d_keyed,
+    sobol_owen_2d_reference,
 };
 
 /// Stratified 2D points for `count` samples: the unit square is cut into `n x n` strata with `n = ceil(sqrt(count))`,

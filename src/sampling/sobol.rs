@@ -114,6 +114,57 @@ pub fn sobol_dim1_fast(i: u32) -> u32 {
     sobol_dim1(i)
 }
 
+/// The second Sobol dimension in the bit-reversed domain, without a table: `rev(sobol_dim1(i))` for any `i`. Bit
+/// `j` of the result is the XOR of the bits `k` of `i` whose binomial coefficient `C(k, j)` is odd, which by Lucas's
+/// theorem are the `k` that contain `j`'s bits: a superset XOR over five bit positions, five shift-and-XOR steps.
+/// The same linear map as `apply(&SOBOL_DIM1_REVERSED, rev(i))` (tests check every basis vector); it needs no
+/// memory lookup, so [`sobol_owen_2d_batch`] computes it for sixteen lanes at once.
+#[inline(always)]
+pub fn sobol_dim1_reversed(i: u32) -> u32 {
+    let mut x = i;
+    x ^= (x >> 1) & 0x5555_5555;
+    x ^= (x >> 2) & 0x3333_3333;
+    x ^= (x >> 4) & 0x0f0f_0f0f;
+    x ^= (x >> 8) & 0x00ff_00ff;
+    x ^= (x >> 16) & 0x0000_ffff;
+    x
+}
+
+/// Lanes of [`sobol_owen_2d_batch`].
+pub const SOBOL_BATCH: usize = 16;
+
+/// Sixteen points of [`sobol_owen_2d_keyed`] at once, for each 2D dimension `d` given: lane `l` is the point of
+/// the index whose bit reversal is `index_rev[l]` under the keys `keys[d][0][l]`, `keys[d][1][l]`,
+/// `keys[d][2][l]`, written to `out[d][0][l]` (x) and `out[d][1][l]` (y) — the same bits as the one-point function. Compiled for AVX-512 and AVX2 (with GFNI, whose
+/// `gf2p8affineqb` reverses the bits of a byte) and chosen at run time, the lane loop is one vector computation:
+/// the 32-bit multiplies of the scrambles, the bit reversals and the table-free second dimension
+/// ([`sobol_dim1_reversed`]) for all lanes per instruction.
+#[multiversion(targets(
+    "x86_64+avx512f+avx512vl+avx512bw+gfni",
+    "x86_64+avx512f+avx512vl+avx512bw",
+    "x86_64+avx2+gfni",
+    "x86_64+avx2"
+))]
+pub fn sobol_owen_2d_batch(
+    index_rev: &[u32; SOBOL_BATCH],
+    keys: &[[[u32; SOBOL_BATCH]; 3]],
+    out: &mut [[[f32; SOBOL_BATCH]; 2]],
+) {
+    const S: f32 = 1.0 / 16_777_216.0;
+    for (keys, out) in keys.iter().zip(out.iter_mut()) {
+        for l in 0..SOBOL_BATCH {
+            // As `sobol_owen_2d_keyed`: the shuffled index (reversed), then both dimensions scrambled; here the
+            // second dimension takes the shuffled index's reversal, which the first computes anyway.
+            let r = laine_karras(index_rev[l], keys[0][l]).reverse_bits();
+            let x = laine_karras(r, keys[1][l]).reverse_bits();
+            let y = laine_karras(sobol_dim1_reversed(r), keys[2][l]).reverse_bits();
+            // Below 2^24, so the signed conversion (one vector instruction on every target) is exact.
+            out[0][l] = (x >> 8) as i32 as f32 * S;
+            out[1][l] = (y >> 8) as i32 as f32 * S;
+        }
+    }
+}
+
 /// A 32-bit integer hash (Wellons' "lowbias32"): keys of the scrambles, here and in the sampler.
 #[inline]
 pub(super) fn hash32(mut x: u32) -> u32 {

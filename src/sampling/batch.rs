@@ -1,0 +1,85 @@
+//! Sobol points of a chunk of samples computed together: the 2D points an estimator will ask for at its first path
+//! vertices, for up to sixteen samples at once (one lane each), with one vector instruction doing the scrambling of
+//! all lanes ([`sobol_owen_2d_batch`]). The Sobol sampler's numbers are pure functions of (pixel, sample index,
+//! dimension), so drawing them ahead changes no number: a sample's sampler is handed its lane's points and answers
+//! those requests from them (`Sampler::next_2d`), every other request as before.
+//!
+//! `PerPixel` uses it where it already works a chunk at a time (the camera-ray packets): the estimator names the
+//! dimensions ([`crate::integrator::PixelIntegrator::batched_2d_dims`]). A dimension computed for a path that ends
+//! before asking for it is wasted work, so an estimator names the ones most paths reach.
+
+use super::sampler::Sampler;
+use super::sobol::{SOBOL_BATCH, sobol_owen_2d_batch};
+use glam::Vec2;
+
+/// The most 2D dimensions a batch computes per sample.
+pub const MAX_BATCH_DIMS: usize = 16;
+
+/// The 2D points of dimensions `dims` for the samples of one chunk (`SOBOL_BATCH` lanes).
+pub struct SobolBatch {
+    dims: [u32; MAX_BATCH_DIMS],
+    n: usize,
+    index_rev: [u32; SOBOL_BATCH],
+    keys: [[[u32; SOBOL_BATCH]; 3]; MAX_BATCH_DIMS],
+    points: [[[f32; SOBOL_BATCH]; 2]; MAX_BATCH_DIMS],
+}
+
+impl SobolBatch {
+    /// A batch for the 2D requests at dimensions `dims` (in the order an estimator asks for them; the first
+    /// [`MAX_BATCH_DIMS`] are kept).
+    pub fn new(dims: &[u32]) -> Self {
+        let n = dims.len().min(MAX_BATCH_DIMS);
+        let mut d = [0; MAX_BATCH_DIMS];
+        d[..n].copy_from_slice(&dims[..n]);
+        SobolBatch {
+            dims: d,
+            n,
+            index_rev: [0; SOBOL_BATCH],
+            keys: [[[0; SOBOL_BATCH]; 3]; MAX_BATCH_DIMS],
+            points: [[[0.0; SOBOL_BATCH]; 2]; MAX_BATCH_DIMS],
+        }
+    }
+
+    /// Whether the batch has no dimension to compute.
+    pub fn is_empty(&self) -> bool {
+        self.n == 0
+    }
+
+    /// Lanes `first..first + count` (within `SOBOL_BATCH`) are samples `index..index + count` of the pixel whose
+    /// Sobol sampler is `sampler` (the scramble keys, one set per pixel and dimension, from the sampler's cache).
+    #[inline]
+    pub fn set_lanes(&mut self, first: usize, count: usize, sampler: &mut Sampler, index: u32) {
+        let lanes = first..first + count;
+        for (l, i) in self.index_rev[lanes.clone()].iter_mut().zip(index..) {
+            *l = i.reverse_bits();
+        }
+        for (d, keys) in self.dims[..self.n].iter().zip(self.keys.iter_mut()) {
+            let k = sampler.keys_2d(*d);
+            for (j, key) in keys.iter_mut().enumerate() {
+                key[lanes.clone()].fill(k[j]);
+            }
+        }
+    }
+
+    /// Compute every lane's points (lanes not set since the batch was made hold earlier or zero inputs, and their
+    /// points are not used).
+    #[inline]
+    pub fn compute(&mut self) {
+        sobol_owen_2d_batch(&self.index_rev, &self.keys[..self.n], &mut self.points[..self.n]);
+    }
+
+    /// Lane `lane`'s point of the batch's `k`-th dimension.
+    #[inline(always)]
+    pub fn point(&self, lane: usize, k: usize) -> Vec2 {
+        Vec2::new(self.points[k][0][lane], self.points[k][1][lane])
+    }
+
+    /// Hand lane `lane`'s points of the dimensions from `sampler`'s current one on to `sampler`, which has started
+    /// that lane's sample (`Sampler::start`) and drawn what it drew before them.
+    #[inline(always)]
+    pub fn load(&self, lane: usize, sampler: &mut Sampler) {
+        let dims = &self.dims[..self.n];
+        let first = dims.partition_point(|&d| d < sampler.dimension());
+        sampler.preload_2d(&dims[first..], |k| self.point(lane, first + k));
+    }
+}
