@@ -231,6 +231,14 @@ impl Lobe {
     #[inline(always)]
     pub fn eval_pdf(&self, wo: Vec3A, wi: Vec3A, mode: TransportMode) -> (Vec3, f32) {
         match *self {
+            // The common case inline (`eval` and `pdf` of the lobe, without their calls and second dispatch).
+            Lobe::Diffuse { albedo } => {
+                if wo.z > 0.0 && wi.z > 0.0 {
+                    (albedo * FRAC_1_PI, warp::cosine_hemisphere_pdf(wi))
+                } else {
+                    (Vec3::ZERO, 0.0)
+                }
+            }
             Lobe::Conductor { alpha, fresnel, scale } if alpha != 0.0 => {
                 if !(wo.z > 0.0 && wi.z > 0.0) {
                     return (Vec3::ZERO, 0.0);
