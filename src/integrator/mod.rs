@@ -146,7 +146,7 @@ pub trait PixelIntegrator: Send + Sync {
         self.radiance(scene, ray, sampler)
     }
 
-    /// The dimensions of the 2D requests most of its paths make, in the order it makes them: where `PerPixel`
+    /// The dimensions of the 2D requests most of its paths make, ascending (the order it makes them): where `PerPixel`
     /// traces camera rays in packets it computes these Sobol points for the packet's samples together
     /// ([`crate::sampling::SobolBatch`]; the same numbers, fewer instructions). By default none.
     fn batched_2d_dims(&self) -> Vec<u32> {

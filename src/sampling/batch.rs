@@ -25,7 +25,7 @@ pub struct SobolBatch {
 }
 
 impl SobolBatch {
-    /// A batch for the 2D requests at dimensions `dims` (in the order an estimator asks for them; the first
+    /// A batch for the 2D requests at dimensions `dims` (ascending, the order an estimator asks for them; the first
     /// [`MAX_BATCH_DIMS`] are kept).
     pub fn new(dims: &[u32]) -> Self {
         let n = dims.len().min(MAX_BATCH_DIMS);
@@ -50,8 +50,9 @@ impl SobolBatch {
     #[inline]
     pub fn set_lanes(&mut self, first: usize, count: usize, sampler: &mut Sampler, index: u32) {
         let lanes = first..first + count;
-        for (l, i) in self.index_rev[lanes.clone()].iter_mut().zip(index..) {
-            *l = i.reverse_bits();
+        for (k, l) in self.index_rev[lanes.clone()].iter_mut().enumerate() {
+            // Wrapping, as the samplers' indices (`Sampler::start` takes the index modulo 2^32).
+            *l = index.wrapping_add(k as u32).reverse_bits();
         }
         for (d, keys) in self.dims[..self.n].iter().zip(self.keys.iter_mut()) {
             let k = sampler.keys_2d(*d);

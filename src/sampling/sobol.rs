@@ -135,10 +135,10 @@ pub const SOBOL_BATCH: usize = 16;
 
 /// Sixteen points of [`sobol_owen_2d_keyed`] at once, for each 2D dimension `d` given: lane `l` is the point of
 /// the index whose bit reversal is `index_rev[l]` under the keys `keys[d][0][l]`, `keys[d][1][l]`,
-/// `keys[d][2][l]`, written to `out[d][0][l]` (x) and `out[d][1][l]` (y) — the same bits as the one-point function. Compiled for AVX-512 and AVX2 (with GFNI, whose
-/// `gf2p8affineqb` reverses the bits of a byte) and chosen at run time, the lane loop is one vector computation:
-/// the 32-bit multiplies of the scrambles, the bit reversals and the table-free second dimension
-/// ([`sobol_dim1_reversed`]) for all lanes per instruction.
+/// `keys[d][2][l]`, written to `out[d][0][l]` (x) and `out[d][1][l]` (y) — the same bits as the one-point
+/// function. Compiled for AVX-512 and AVX2 (with GFNI, whose `gf2p8affineqb` reverses the bits of a byte) and
+/// chosen at run time, the lane loop is one vector computation: the 32-bit multiplies of the scrambles, the bit
+/// reversals and the table-free second dimension ([`sobol_dim1_reversed`]) for all lanes per instruction.
 #[multiversion(targets(
     "x86_64+avx512f+avx512vl+avx512bw+gfni",
     "x86_64+avx512f+avx512vl+avx512bw",
