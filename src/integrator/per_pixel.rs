@@ -65,6 +65,9 @@ pub struct PerPixel<T> {
     estimator: T,
     /// The adaptive renders' allocation, once the pilot pass is known.
     allocation: Option<SampleAllocation>,
+    /// The Sobol dimensions a chunk of camera-ray packets computes together ([`SobolBatch`]): the pixel
+    /// position's, then those the estimator names ([`PixelIntegrator::batched_2d_dims`]); set by `prepare`.
+    batch_dims: Vec<u32>,
 }
 
 /// One pixel's samples in a pass, and their sums so far.
@@ -92,7 +95,7 @@ struct TileOut {
 impl<T: PixelIntegrator> PerPixel<T> {
     /// The integrator that renders `estimator` per pixel.
     pub fn new(estimator: T) -> Self {
-        PerPixel { estimator, allocation: None }
+        PerPixel { estimator, allocation: None, batch_dims: Vec::new() }
     }
 
     /// Pixel `(x, y)`'s samples in this pass: its sampler, the range of its sequence, and the set an explicit
@@ -168,9 +171,7 @@ impl<T: PixelIntegrator> PerPixel<T> {
         let mut owner = [(0usize, 0u64); PACKET];
         // With packets, the chunk's Sobol points are computed together ([`SobolBatch`]): the pixel position (the
         // batch's first dimension) and those the estimator asks for at its first vertices.
-        let dims: Vec<u32> =
-            if packets { [0].into_iter().chain(self.estimator.batched_2d_dims()).collect() } else { vec![] };
-        let mut batch = SobolBatch::new(&dims);
+        let mut batch = SobolBatch::new(if packets { &self.batch_dims } else { &[] });
         // The camera ray of sample `index` of pixel `p`, lane `lane` of its chunk (its dimensions 0-3 drawn from the
         // pixel's sampler, the pixel position from the batch where there is one).
         let camera_ray = |p: &mut PixelSamples, index: u64, lane: usize, batch: &SobolBatch| {
@@ -308,7 +309,9 @@ impl<T: PixelIntegrator> Integrator for PerPixel<T> {
 
     fn prepare(&mut self, scene: &Scene, settings: &RenderSettings) -> Result<()> {
         self.allocation = None;
-        self.estimator.prepare(scene, settings)
+        self.estimator.prepare(scene, settings)?;
+        self.batch_dims = [0].into_iter().chain(self.estimator.batched_2d_dims()).collect();
+        Ok(())
     }
 
     fn render_pass(&mut self, scene: &Scene, pass: &PassInfo, cancel: &AtomicBool) -> PassOutput {
