@@ -20,7 +20,7 @@ pub struct Parent(pub hecs::Entity);
 #[derive(Clone, Copy, Debug)]
 pub struct WorldFromLocal(pub Affine3A);
 
-/// Index of a mesh in [`crate::scene::MeshStore`].
+/// Index of a mesh in [`crate::mesh::MeshStore`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct MeshHandle(pub u32);
 

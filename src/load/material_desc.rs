@@ -142,7 +142,7 @@ fn one_octave() -> u32 {
 #[derive(Deserialize, Debug, Clone)]
 #[serde(deny_unknown_fields)]
 pub enum MaterialDesc {
-    /// Ideal diffuse reflector; `albedo` in [0,1].
+    /// Ideal diffuse reflector; `albedo` in `[0, 1]`.
     Lambert {
         #[serde(default = "half3")]
         albedo: ColorDesc,

@@ -95,7 +95,7 @@ fn sobol_dim1(i: u32) -> u32 {
     apply(&SOBOL_DIM1, i)
 }
 
-/// The reference bit loop for [`sobol_dim1`] (tests compare the two).
+/// The reference bit loop for `sobol_dim1` (tests compare the two).
 pub fn sobol_dim1_reference(mut i: u32) -> u32 {
     let mut v = 1u32 << 31;
     let mut r = 0;
@@ -188,7 +188,7 @@ pub fn scramble_keys_2d(seed: u32) -> [u32; 3] {
     [hash32(seed), hash32(seed ^ 0x9e37_79b9), hash32(seed ^ 0x85eb_ca6b)]
 }
 
-/// [`sobol_owen_2d`] from its [`scramble_keys_2d`], for the index whose bit reversal is `index_rev` (a sampler
+/// [`sobol_owen_2d`] from its `scramble_keys_2d`, for the index whose bit reversal is `index_rev` (a sampler
 /// reverses its index once per sample). The same point as [`sobol_owen_2d_reference`], computed in the
 /// bit-reversed domain where Laine-Karras scrambles act: three bit reversals instead of seven (two of them paired
 /// into one 64-bit reversal).

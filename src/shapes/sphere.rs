@@ -51,7 +51,7 @@ pub fn sphere_point_error(center: Vec3A, rn: Vec3A, transform: Option<&SphereTra
     }
 }
 
-/// Spherical (u, v) in [0,1]^2 from a unit object-space normal, and dp/du, dp/dv for radius `r`: u around +y,
+/// Spherical (u, v) in `[0, 1]^2` from a unit object-space normal, and dp/du, dp/dv for radius `r`: u around +y,
 /// 0.5 straight ahead along +z and growing towards +x (an image wrapped around the sphere reads left to right
 /// seen from outside), v = theta / pi from the north pole (+y, the image's top row) down.
 pub fn sphere_uv(n: Vec3A, r: f32) -> (Vec2, Vec3A, Vec3A) {

@@ -1,7 +1,7 @@
 //! Textures: values of material parameters that vary over a surface. A parameter is a [`ColorParam`] or a
 //! [`ScalarParam`]: a constant, or a texture of the scene's [`TextureSet`] times a constant factor. Textures are
-//! image maps (looked up at the hit's uv, [`image`]) and solid 6.837 textures (evaluated at the world-space hit
-//! point, [`solid`]); evaluation is an enum match, no dynamic dispatch.
+//! image maps (looked up at the hit's uv, `image`) and solid 6.837 textures (evaluated at the world-space hit
+//! point, `solid`); evaluation is an enum match, no dynamic dispatch.
 //!
 //! Colour parameters take the RGB of an image (a grey image gives grey); scalar parameters take one channel of an
 //! image (`R`, `G`, `B` or `Mean`; grey images need none) or a solid texture's value.

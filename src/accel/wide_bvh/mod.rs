@@ -1,11 +1,11 @@
 //! The default BVH (`--accel bvh`), an 8-wide BVH for CPU single-ray traversal: a BVH2 with leaves of up to eight
 //! primitives — the cheaper by surface-area cost of obvhs's PLOC tree and a top-down binned-SAH tree (`build.rs`; the
 //! top-down build of `bvh_topdown.rs` alone when many primitives share a Morton cell) — collapsed into nodes of eight
-//! children (a node with slots to spare gives each analytic primitive that shares a leaf a leaf of its own:
-//! `split_off_analytic`) whose boxes are stored as structure of arrays (each box plane's eight values side by side), so
+//! children (`collapse.rs`; a node with slots to spare gives each analytic primitive that shares a leaf a leaf of
+//! its own: `split_off_analytic`) whose boxes are stored as structure of arrays (each box plane's eight values side by side), so
 //! one ray is tested against all eight boxes with one AVX operation per step where the CPU has AVX2, or against four
 //! with one SSE operation elsewhere (`boxes.rs`; the same traversal bit for bit either way), and leaves hold their
-//! triangles four to a [`TriPacket`] (the same conservative SIMD pre-filter and exact watertight test the kd-tree
+//! triangles four to a [`TriPacket`](crate::geometry::TriPacket) (the same conservative SIMD pre-filter and exact watertight test the kd-tree
 //! uses); a leaf whose triangles lie in a face of its box (walls, floors, a block's faces) keeps that slab, and a ray
 //! that starts beyond it moving away skips the leaf (`leaf.rs`: exact comparisons, so the same answers). A leaf's slot
 //! in its parent holds its packet range and slab axis itself, so a leaf costs no load before its packets (and a leaf
@@ -33,25 +33,24 @@
 
 use super::work::{NoCount, TraversalWork, WorkCounter};
 use super::{AccelStats, Accelerator};
-use crate::geometry::{Ray, TriPacket, WatertightRay};
+use crate::geometry::{Ray, WatertightRay};
 use crate::primitives::{Hit, Primitives};
 use boxes::{BoxTest, RayBoxes, RayBoxes8};
 pub use build::{Candidate, SPLIT_SAMPLES_PER_PRIMITIVE, SpatialSplits};
-use glam::Vec3A;
-use obvhs::{aabb::Aabb, bvh2::Bvh2};
 use pulp::x86::V3;
 use pulp::{Simd, WithSimd};
 use std::time::Duration;
 
 mod boxes;
 mod build;
+mod collapse;
 mod leaf;
 mod packet;
 
 pub use packet::PACKET;
 
 pub(crate) use leaf::MAX_PRIMITIVES;
-use leaf::{LeafPacket, NO_SLAB, leaf_axis, leaf_packets, leaf_slab, leaf_word, moving_away, without_slab};
+use leaf::{LeafPacket, NO_SLAB, leaf_axis, leaf_packets, moving_away, without_slab};
 
 /// Child slot markers.
 const LEAF_BIT: u32 = 1 << 31;
@@ -71,40 +70,6 @@ struct Node {
     b: [[f32; WIDTH]; 6],
     /// Inner child: node index; leaf: `LEAF_BIT | leaf index`; `EMPTY`: no child.
     child: [u32; WIDTH],
-}
-
-/// A child of a node being collapsed: a BVH2 subtree, or the primitives of one leaf, with its box.
-enum Kid {
-    Subtree(usize, Aabb),
-    Leaf(Vec<u32>, Aabb),
-}
-
-impl Kid {
-    fn aabb(&self) -> &Aabb {
-        match self {
-            Kid::Subtree(_, a) | Kid::Leaf(_, a) => a,
-        }
-    }
-}
-
-/// Give analytic primitives (ids `>= num_tris`: spheres, revolutions, patches) that share a leaf with others a
-/// leaf of their own while the node has empty slots. A node tests all its slots' boxes in one operation, so the
-/// extra box is free, while an analytic test (divisions, square roots, Newton steps) costs several triangle
-/// tests: with its own tight box, only the rays that come near the shape pay for it. (On the sphere Cornell boxes
-/// the BVH2 puts each sphere in a leaf with a wall, whose box every ray to that wall enters.)
-fn split_off_analytic(kids: &mut Vec<Kid>, num_tris: u32, aabbs: &[Aabb]) {
-    while kids.len() < WIDTH {
-        let found = kids.iter().enumerate().find_map(|(i, kid)| match kid {
-            Kid::Leaf(ids, _) if ids.len() > 1 => ids.iter().position(|&id| id >= num_tris).map(|j| (i, j)),
-            _ => None,
-        });
-        let Some((i, j)) = found else { return };
-        if let Kid::Leaf(ids, rest) = &mut kids[i] {
-            let id = ids.remove(j);
-            *rest = ids.iter().fold(Aabb::empty(), |b, &r| b.union(&aabbs[r as usize]));
-            kids.push(Kid::Leaf(vec![id], aabbs[id as usize]));
-        }
-    }
 }
 
 pub struct WideBvh {
@@ -167,13 +132,6 @@ impl WideBvh {
         }
     }
 
-    /// The wide tree of `bvh2`, built over `aabbs` (the primitives' padded boxes).
-    fn from_bvh2(prims: &Primitives, aabbs: &[Aabb], bvh2: &Bvh2) -> Self {
-        let mut out = Self::empty();
-        out.root = out.collapse(bvh2, 0, prims, aabbs, 1);
-        out
-    }
-
     /// A text dump of the tree (debugging): one line per node with its children's boxes.
     pub fn dump(&self) -> String {
         let mut out = String::new();
@@ -199,136 +157,6 @@ impl WideBvh {
             }
         }
         out
-    }
-
-    /// The primitives under BVH2 inner node `node` when its two children are leaves better tested as one: their
-    /// boxes nearly coincide (the union's area within 10% of the larger child's, e.g. the two halves of a cube's
-    /// faces) and together they fill fewer packets than apart. A ray entering either box enters both, so one leaf
-    /// saves a box test, a stack entry and a half-empty packet.
-    fn merged_leaf_ids(bvh2: &Bvh2, node: usize) -> Option<Vec<u32>> {
-        let nd = &bvh2.nodes[node];
-        if nd.prim_count > 0 {
-            return None;
-        }
-        let (a, b) = (&bvh2.nodes[nd.first_index as usize], &bvh2.nodes[nd.first_index as usize + 1]);
-        let (na, nb) = (a.prim_count as usize, b.prim_count as usize);
-        if na == 0 || nb == 0 || (na + nb).div_ceil(4) >= na.div_ceil(4) + nb.div_ceil(4) {
-            return None;
-        }
-        if nd.aabb.half_area() > 1.1 * a.aabb.half_area().max(b.aabb.half_area()) {
-            return None;
-        }
-        let range = |n: &obvhs::bvh2::node::Bvh2Node| n.first_index..n.first_index + n.prim_count;
-        Some(range(a).chain(range(b)).map(|i| bvh2.primitive_indices[i as usize]).collect())
-    }
-
-    /// Pack primitives `ids` into a new leaf; returns the leaf's child slot. `aabbs`: the primitives' padded boxes.
-    fn add_leaf_ids(&mut self, ids: &[u32], prims: &Primitives, aabbs: &[Aabb]) -> u32 {
-        // A primitive split by a spatial split may reach one leaf twice (two leaves of its halves merged): once.
-        let mut unique = Vec::with_capacity(ids.len());
-        for &id in ids {
-            if !unique.contains(&id) {
-                unique.push(id);
-            }
-        }
-        let ids = &unique[..];
-        let nt = prims.num_tris();
-        let (axis, lo, hi) = leaf_slab(ids, prims, aabbs);
-        let (mut ordered, others): (Vec<u32>, Vec<u32>) = ids.iter().partition(|&&id| id < nt);
-        ordered.extend(others);
-        let first = self.packets.len() as u32;
-        for chunk in ordered.chunks(4) {
-            let mut p = LeafPacket { ids: [u32::MAX; 4], ..Default::default() };
-            let mut verts = Vec::with_capacity(4);
-            for (lane, &id) in chunk.iter().enumerate() {
-                p.ids[lane] = id;
-                if id < nt {
-                    p.tri_lanes |= 1 << lane;
-                    verts.push(prims.tris[id as usize]);
-                } else {
-                    p.other_lanes |= 1 << lane;
-                    verts.push([Vec3A::ZERO; 3]);
-                }
-            }
-            p.tris = TriPacket::new(&verts);
-            self.packets.push(p);
-        }
-        self.slabs.resize(self.packets.len(), [0.0; 2]);
-        self.slabs[first as usize] = [lo, hi];
-        let word = leaf_word(first as usize, self.packets.len() - first as usize, axis);
-        self.leaves.push(word);
-        LEAF_BIT | word
-    }
-
-    /// The primitives of BVH2 node `k` if it becomes one leaf (a BVH2 leaf, or two leaves merged).
-    fn leaf_ids(bvh2: &Bvh2, k: usize) -> Option<Vec<u32>> {
-        let nd = &bvh2.nodes[k];
-        if nd.prim_count > 0 {
-            let range = nd.first_index..nd.first_index + nd.prim_count;
-            return Some(range.map(|i| bvh2.primitive_indices[i as usize]).collect());
-        }
-        Self::merged_leaf_ids(bvh2, k)
-    }
-
-    /// Collapse the BVH2 subtree at `node` into 8-wide nodes (depth first, a parent before its children); returns
-    /// its child slot. `aabbs` are the primitives' (padded) boxes the BVH2 was built from.
-    fn collapse(&mut self, bvh2: &Bvh2, node: usize, prims: &Primitives, aabbs: &[Aabb], depth: usize) -> u32 {
-        self.depth = self.depth.max(depth);
-        if let Some(ids) = Self::leaf_ids(bvh2, node) {
-            return self.add_leaf_ids(&ids, prims, aabbs);
-        }
-        let nd = &bvh2.nodes[node];
-        // Open the inner child of largest surface area until there are WIDTH children.
-        let mut kids = vec![nd.first_index as usize, nd.first_index as usize + 1];
-        while kids.len() < WIDTH {
-            let best = kids
-                .iter()
-                .enumerate()
-                .filter(|(_, k)| Self::leaf_ids(bvh2, **k).is_none())
-                .max_by(|a, b| bvh2.nodes[*a.1].aabb.half_area().total_cmp(&bvh2.nodes[*b.1].aabb.half_area()))
-                .map(|(i, _)| i);
-            let Some(i) = best else { break };
-            let k = kids.swap_remove(i);
-            let first = bvh2.nodes[k].first_index as usize;
-            kids.extend([first, first + 1]);
-        }
-        let mut kids: Vec<Kid> = kids
-            .into_iter()
-            .map(|k| match Self::leaf_ids(bvh2, k) {
-                Some(ids) => Kid::Leaf(ids, bvh2.nodes[k].aabb),
-                None => Kid::Subtree(k, bvh2.nodes[k].aabb),
-            })
-            .collect();
-        split_off_analytic(&mut kids, prims.num_tris(), aabbs);
-        let me = self.nodes.len();
-        // Empty slots: a box from +inf to -inf, which no ray meets.
-        let mut b = [
-            [f32::INFINITY; WIDTH],
-            [f32::INFINITY; WIDTH],
-            [f32::INFINITY; WIDTH],
-            [f32::NEG_INFINITY; WIDTH],
-            [f32::NEG_INFINITY; WIDTH],
-            [f32::NEG_INFINITY; WIDTH],
-        ];
-        for (lane, kid) in kids.iter().enumerate() {
-            let a = kid.aabb();
-            for axis in 0..3 {
-                b[axis][lane] = a.min[axis];
-                b[3 + axis][lane] = a.max[axis];
-            }
-        }
-        self.nodes.push(Node { b, child: [EMPTY; WIDTH] });
-        for (lane, kid) in kids.iter().enumerate() {
-            let slot = match kid {
-                Kid::Subtree(k, _) => self.collapse(bvh2, *k, prims, aabbs, depth + 1),
-                Kid::Leaf(ids, _) => {
-                    self.depth = self.depth.max(depth + 1);
-                    self.add_leaf_ids(ids, prims, aabbs)
-                }
-            };
-            self.nodes[me].child[lane] = slot;
-        }
-        me as u32
     }
 
     /// Test the leaf of child word `leaf` (without `LEAF_BIT`); returns true when `ANY` and something was hit.
