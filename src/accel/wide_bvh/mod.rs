@@ -2,16 +2,16 @@
 //! primitives — the cheaper by surface-area cost of obvhs's PLOC tree and a top-down binned-SAH tree (`build.rs`; the
 //! top-down build of `bvh_topdown.rs` alone when many primitives share a Morton cell) — collapsed into nodes of eight
 //! children (`collapse.rs`; a node with slots to spare gives each analytic primitive that shares a leaf a leaf of
-//! its own: `split_off_analytic`) whose boxes are stored as structure of arrays (each box plane's eight values side by side), so
-//! one ray is tested against all eight boxes with one AVX operation per step where the CPU has AVX2, or against four
-//! with one SSE operation elsewhere (`boxes.rs`; the same traversal bit for bit either way), and leaves hold their
-//! triangles four to a [`TriPacket`](crate::geometry::TriPacket) (the same conservative SIMD pre-filter and exact watertight test the kd-tree
-//! uses); a leaf whose triangles lie in a face of its box (walls, floors, a block's faces) keeps that slab, and a ray
-//! that starts beyond it moving away skips the leaf (`leaf.rs`: exact comparisons, so the same answers). A leaf's slot
-//! in its parent holds its packet range and slab axis itself, so a leaf costs no load before its packets (and a leaf
-//! skipped by its slab none of them). With AVX2 the whole query is compiled for AVX2 and FMA through `pulp` (safe Rust;
-//! the features are detected at run time) — Rust never fuses a multiply and an add on its own, so the answers do not
-//! change with the target.
+//! its own: `split_off_analytic`) whose boxes are stored as structure of arrays (each box plane's eight values side
+//! by side), so one ray is tested against all eight boxes with one AVX operation per step where the CPU has AVX2, or
+//! against four with one SSE operation elsewhere (`boxes.rs`; the same traversal bit for bit either way), and leaves
+//! hold their triangles four to a [`TriPacket`](crate::geometry::TriPacket) (the same conservative SIMD pre-filter
+//! and exact watertight test the kd-tree uses); a leaf whose triangles lie in a face of its box (walls, floors, a
+//! block's faces) keeps that slab, and a ray that starts beyond it moving away skips the leaf (`leaf.rs`: exact
+//! comparisons, so the same answers). A leaf's slot in its parent holds its packet range and slab axis itself, so a
+//! leaf costs no load before its packets (and a leaf skipped by its slab none of them). With AVX2 the whole query is
+//! compiled for AVX2 and FMA through `pulp` (safe Rust; the features are detected at run time) — Rust never fuses a
+//! multiply and an add on its own, so the answers do not change with the target.
 //!
 //! Why not obvhs's own CWBVH traversal (still available as `--accel cwbvh`, `bvh.rs`): its 8-wide nodes are
 //! quantised for GPU memory bandwidth (Ylitie et al. 2017), so every node visit first decompresses eight boxes; on
