@@ -10,8 +10,9 @@
 //! leaf (primitives straddle leaves), and traversal stops when the closest hit lies before the next node's entry,
 //! which never misses a nearer one (nodes starting beyond it are popped and skipped).
 //!
-//! Leaves: each leaf's triangles are copied, four to a [`TriPacket`], into one array in leaf order, so a leaf is
-//! read from consecutive memory and its triangles are pre-filtered four at a time by the watertight edge test;
+//! Leaves: each leaf's triangles are copied, four to a [`TriPacket`](crate::geometry::TriPacket), into one array in
+//! leaf order (`leaf_packet.rs`, shared with the wide BVH), so a leaf is read from consecutive memory and its
+//! triangles are pre-filtered four at a time by the watertight edge test;
 //! only the survivors (usually none or one) go through the exact test that every accelerator shares. Analytic
 //! shapes take lanes of their own and are tested through `Primitives`' analytic dispatch. Primitives in several leaves may be tested more than once
 //! (no mailboxes: the packet test is cheaper than the bookkeeping).
@@ -26,11 +27,11 @@
 
 use super::clip::{RayInv, clip_ray, padded};
 use super::kdtree_build::build_tree;
+use super::leaf_packet::{LeafPacket, pack_leaf};
 use super::work::{NoCount, TraversalWork, WorkCounter};
 use super::{AccelStats, Accelerator};
-use crate::geometry::{Bounds, Ray, TriPacket, WatertightRay};
+use crate::geometry::{Bounds, Ray, WatertightRay};
 use crate::primitives::{Hit, Primitives};
-use glam::Vec3A;
 use std::time::Duration;
 
 /// Hard depth limit; the traversal stack has room for it.
@@ -136,19 +137,8 @@ pub struct KdTree {
     pub(super) build_time: Duration,
 }
 
-/// Up to four primitives of one leaf: triangles in `tris` (lanes in `tri_lanes`), analytic shapes (lanes in
-/// `analytic_lanes`) tested directly.
-#[derive(Clone, Copy, Debug, Default)]
-struct LeafPacket {
-    tris: TriPacket,
-    ids: [u32; 4],
-    tri_lanes: u8,
-    analytic_lanes: u8,
-}
-
 /// Pack each leaf's primitives (triangles first) into packets and point the leaf nodes at them.
 fn pack_leaves(prims: &Primitives, data: KdTreeData) -> (Vec<KdNode>, Vec<LeafPacket>) {
-    let nt = prims.num_tris();
     let mut packets = Vec::new();
     let nodes = data
         .nodes
@@ -158,25 +148,7 @@ fn pack_leaves(prims: &Primitives, data: KdTreeData) -> (Vec<KdNode>, Vec<LeafPa
                 return *n;
             }
             let ids = &data.prims[n.first() as usize..(n.first() + n.count()) as usize];
-            let (mut ordered, analytic): (Vec<u32>, Vec<u32>) = ids.iter().partition(|&&id| id < nt);
-            ordered.extend(analytic);
-            let first = packets.len() as u32;
-            for chunk in ordered.chunks(4) {
-                let mut p = LeafPacket { ids: [u32::MAX; 4], ..Default::default() };
-                let mut verts = Vec::with_capacity(4);
-                for (lane, &id) in chunk.iter().enumerate() {
-                    p.ids[lane] = id;
-                    if id < nt {
-                        p.tri_lanes |= 1 << lane;
-                        verts.push(prims.tris[id as usize]);
-                    } else {
-                        p.analytic_lanes |= 1 << lane;
-                        verts.push([Vec3A::ZERO; 3]);
-                    }
-                }
-                p.tris = TriPacket::new(&verts);
-                packets.push(p);
-            }
+            let first = pack_leaf(ids, prims, &mut packets);
             KdNode::leaf(first, packets.len() as u32 - first)
         })
         .collect();
@@ -275,11 +247,11 @@ impl KdTree {
             }
             let first = n.first() as usize;
             for p in &self.packets[first..first + n.count() as usize] {
-                let lanes = p.tri_lanes | p.analytic_lanes;
+                let lanes = p.tri_lanes | p.other_lanes;
                 for _ in 0..lanes.count_ones() {
                     counter.prim();
                 }
-                let mut candidates = (wt.packet_candidates(&p.tris) & p.tri_lanes as u32) | p.analytic_lanes as u32;
+                let mut candidates = (wt.packet_candidates(&p.tris) & p.tri_lanes as u32) | p.other_lanes as u32;
                 while candidates != 0 {
                     let lane = candidates.trailing_zeros() as usize;
                     candidates &= candidates - 1;

@@ -24,6 +24,7 @@ mod clip;
 pub mod grid;
 pub mod kdtree;
 mod kdtree_build;
+mod leaf_packet;
 mod mailbox;
 pub mod ray_file;
 pub mod ray_sets;

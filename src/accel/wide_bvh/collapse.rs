@@ -1,15 +1,14 @@
 //! The BVH2 collapsed into the wide tree: each inner node opens its children of largest surface area until it has
 //! `WIDTH` (eight) of them, each child a subtree (a node of its own) or a leaf (its primitives packed four to a
-//! [`LeafPacket`], with the slab of a leaf whose triangles lie in one face of its box). Two BVH2 leaves whose boxes
-//! nearly coincide become one leaf (`merged_leaf_ids`), and analytic primitives that share a leaf get one of their
-//! own while the node has slots to spare (`split_off_analytic`). Nodes are written depth first, a parent before its
-//! children.
+//! leaf packet, `accel/leaf_packet.rs`, with the slab of a leaf whose triangles lie in one face of its box). Two
+//! BVH2 leaves whose boxes nearly coincide become one leaf (`merged_leaf_ids`), and analytic primitives that share a
+//! leaf get one of their own while the node has slots to spare (`split_off_analytic`). Nodes are written depth
+//! first, a parent before its children.
 
-use super::leaf::{LeafPacket, leaf_slab, leaf_word};
+use super::leaf::{leaf_slab, leaf_word};
 use super::{EMPTY, LEAF_BIT, Node, WIDTH, WideBvh};
-use crate::geometry::TriPacket;
+use crate::accel::leaf_packet::pack_leaf;
 use crate::primitives::Primitives;
-use glam::Vec3A;
 use obvhs::{aabb::Aabb, bvh2::Bvh2};
 
 /// A child of a node being collapsed: a BVH2 subtree, or the primitives of one leaf, with its box.
@@ -85,27 +84,8 @@ impl WideBvh {
             }
         }
         let ids = &unique[..];
-        let nt = prims.num_tris();
         let (axis, lo, hi) = leaf_slab(ids, prims, aabbs);
-        let (mut ordered, others): (Vec<u32>, Vec<u32>) = ids.iter().partition(|&&id| id < nt);
-        ordered.extend(others);
-        let first = self.packets.len() as u32;
-        for chunk in ordered.chunks(4) {
-            let mut p = LeafPacket { ids: [u32::MAX; 4], ..Default::default() };
-            let mut verts = Vec::with_capacity(4);
-            for (lane, &id) in chunk.iter().enumerate() {
-                p.ids[lane] = id;
-                if id < nt {
-                    p.tri_lanes |= 1 << lane;
-                    verts.push(prims.tris[id as usize]);
-                } else {
-                    p.other_lanes |= 1 << lane;
-                    verts.push([Vec3A::ZERO; 3]);
-                }
-            }
-            p.tris = TriPacket::new(&verts);
-            self.packets.push(p);
-        }
+        let first = pack_leaf(ids, prims, &mut self.packets);
         self.slabs.resize(self.packets.len(), [0.0; 2]);
         self.slabs[first as usize] = [lo, hi];
         let word = leaf_word(first as usize, self.packets.len() - first as usize, axis);

@@ -2,7 +2,7 @@
 //! primitives along the axis on which its triangles lie in a face of the leaf's box — which lets a ray that starts
 //! beyond the slab and moves away from it (a ray leaving a wall, a floor, a block's face) skip the leaf's tests.
 
-use crate::geometry::{Ray, TriPacket};
+use crate::geometry::Ray;
 use crate::primitives::Primitives;
 use glam::Vec3A;
 use obvhs::aabb::Aabb;
@@ -51,15 +51,6 @@ pub(super) fn without_slab(word: u32) -> u32 {
 pub(super) fn moving_away(ray: &Ray, axis: u8, [lo, hi]: [f32; 2]) -> bool {
     let (o, d) = (ray.origin.to_array()[axis as usize], ray.dir.to_array()[axis as usize]);
     (o > hi && d >= 0.0) || (o < lo && d <= 0.0)
-}
-
-/// Up to four primitives of one leaf: triangles as a packet, other bounded shapes tested one by one.
-#[derive(Clone, Copy, Debug, Default)]
-pub(super) struct LeafPacket {
-    pub(super) tris: TriPacket,
-    pub(super) ids: [u32; 4],
-    pub(super) tri_lanes: u8,
-    pub(super) other_lanes: u8,
 }
 
 /// The slab of a leaf worth testing before its primitives: `(axis, lo, hi)` with `[lo, hi]` the exact extent of

@@ -49,8 +49,9 @@ mod packet;
 
 pub use packet::PACKET;
 
+use super::leaf_packet::LeafPacket;
 pub(crate) use leaf::MAX_PRIMITIVES;
-use leaf::{LeafPacket, NO_SLAB, leaf_axis, leaf_packets, moving_away, without_slab};
+use leaf::{NO_SLAB, leaf_axis, leaf_packets, moving_away, without_slab};
 
 /// Child slot markers.
 const LEAF_BIT: u32 = 1 << 31;
