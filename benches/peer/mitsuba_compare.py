@@ -34,8 +34,10 @@ Output (stdout and target/peer/results/): per scene, renderer and spp the median
 and Msamples/s; and the equal-error time ratio Prism / Mitsuba-ldsampler (and / Mitsuba-independent) at each
 of the peer's spp: the peer's mean RMSE there is the target, Prism's (median time, mean RMSE) points are
 interpolated in log-log to the time they reach it (as src/converge.rs::time_to_error does; `~` marks a value
-extrapolated from the nearest segment), divided by the peer's median time. The spread is the min-max of the same
-ratio computed from each repetition's own points. Where NAME.json gives the reference's own noise, a ratio with
+extrapolated from the nearest segment), divided by the peer's median time. Beside it, a 95% bootstrap interval
+(the same ratio over repetitions drawn with replacement, each keeping its Prism and peer renders together) and the
+per-repetition range (min-max of the ratio from each repetition's own points alone, which need not contain the
+headline). Where NAME.json gives the reference's own noise, a ratio with
 both errors corrected for it (sqrt(rmse^2 - noise^2)) is shown too.
 
 Prism's fastest binary (`--pgo`): every Prism configuration is run twice, by the plain `cargo build --release`
@@ -369,6 +371,9 @@ def parse_args():
     ap.add_argument("--pgo", action="store_true",
                     help="also run every Prism configuration with the profile-guided binary (benches/pgo/build.sh, "
                          "target/pgo/prism; labels ending in -pgo); with --cost-by-depth, time that binary instead")
+    ap.add_argument("--summarize", type=Path, metavar="RAW_CSV",
+                    help="render nothing: summarize the rows of an earlier run's mitsuba_compare_raw.csv again (its "
+                         "tables, bootstrap intervals included) into --out")
     ap.add_argument("-o", "--out", type=Path, default=PEER / "results", help="output directory")
     a = ap.parse_args()
     a.scenes = [s for s in a.scenes.split(",") if s]
@@ -477,6 +482,18 @@ def measure(a):
     return rows, versions
 
 
+def read_raw(path):
+    """The rows of a mitsuba_compare_raw.csv, as `measure` returns them."""
+    import csv
+    try:
+        with open(path, newline="") as f:
+            return [dict(scene=r["scene"], renderer=r["renderer"], spp=int(r["spp"]), rep=int(r["rep"]),
+                         seed=int(r["seed"]), seconds=float(r["seconds"]), wall=float(r["wall_seconds"]),
+                         rmse=float(r["rmse"]), msps=float(r["msamples_per_s"])) for r in csv.DictReader(f)]
+    except (OSError, KeyError, ValueError) as e:
+        sys.exit(f"error: {path}: not a mitsuba_compare_raw.csv ({e})")
+
+
 def summarize(a, rows, versions):
     raw = ["scene,renderer,spp,rep,seed,seconds,wall_seconds,rmse,msamples_per_s"]
     raw += [f"{r['scene']},{r['renderer']},{r['spp']},{r['rep']},{r['seed']},{r['seconds']:.4f},{r['wall']:.4f},"
@@ -498,11 +515,15 @@ def summarize(a, rows, versions):
                       f"{statistics.median(x['msps'] for x in rs):.3f} |")
     md += ["", "Equal-error time ratio, Prism / Mitsuba (< 1: Prism reaches the peer's error sooner): the peer's "
            "mean RMSE at its spp is the target; Prism's time to it interpolated in log-log (`~`: extrapolated). "
-           "Spread: min-max of the ratio from each repetition's own points.", "",
-           "| scene | Prism | peer | peer spp | target RMSE | peer s | Prism s | ratio (spread) | ratio, Prism wall "
-           "time | ratio, reference noise removed |", "|---|---|---|---:|---:|---:|---:|---:|---:|---:|"]
-    ratios_csv = ["scene,prism,peer,peer_spp,target_rmse,peer_seconds,prism_seconds,ratio,ratio_min,ratio_max,"
-                  "ratio_wall,ratio_noise_corrected,extrapolated"]
+           "Bootstrap 95%: the headline ratio recomputed over repetitions drawn with replacement (each draw keeps a "
+           "repetition's Prism and peer renders together, as they ran side by side). Per-repetition range: min-max of "
+           "the ratio from each repetition's own points alone (it need not contain the headline, which interpolates "
+           "the pooled points).", "",
+           "| scene | Prism | peer | peer spp | target RMSE | peer s | Prism s | ratio [bootstrap 95%] | "
+           "per-repetition range | ratio, Prism wall time | ratio, reference noise removed |",
+           "|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|"]
+    ratios_csv = ["scene,prism,peer,peer_spp,target_rmse,peer_seconds,prism_seconds,ratio,ratio_boot_lo,"
+                  "ratio_boot_hi,ratio_min,ratio_max,ratio_wall,ratio_noise_corrected,extrapolated"]
     for scene in scenes:
         noise = noise_of(scene)
         prisms = [k[1] for k in curves if k[0] == scene and k[1].startswith("prism")]
@@ -523,6 +544,7 @@ def summarize(a, rows, versions):
                         t_rep, _ = time_to_error(mine, x["rmse"])
                         if t_rep:
                             per_rep.append(t_rep / x["seconds"])
+                    boot = headline_bootstrap(cc, pc, spp)
                     tn = None
                     if noise:
                         tn, _ = time_to_error([(t, corrected(e, noise)) for t, e, _ in med], corrected(target, noise))
@@ -530,13 +552,15 @@ def summarize(a, rows, versions):
                     ratio = tp / peer_t if tp else None
                     cells = [scene, p, peer, str(spp), f"{target:.5f}", f"{peer_t:.3f}",
                              f"{mark}{tp:.3f}" if tp else "-",
-                             f"**{mark}{ratio:.2f}** ({min(per_rep):.2f}-{max(per_rep):.2f})" if ratio and per_rep
-                             else (f"{mark}{ratio:.2f}" if ratio else "-"),
+                             f"**{mark}{ratio:.2f}**" + (f" [{boot[0]:.2f}-{boot[1]:.2f}]" if boot else "")
+                             if ratio else "-",
+                             f"{min(per_rep):.2f}-{max(per_rep):.2f}" if per_rep else "-",
                              f"{'~' if exw else ''}{tw / peer_t:.2f}" if tw else "-",
                              f"{tn / peer_t:.2f}" if tn else "-"]
                     md.append("| " + " | ".join(cells) + " |")
                     ratios_csv.append(",".join([scene, p, peer, str(spp), f"{target:.6g}", f"{peer_t:.4f}",
                                                 f"{tp:.4f}" if tp else "", f"{ratio:.4f}" if ratio else "",
+                                                f"{boot[0]:.4f}" if boot else "", f"{boot[1]:.4f}" if boot else "",
                                                 f"{min(per_rep):.4f}" if per_rep else "",
                                                 f"{max(per_rep):.4f}" if per_rep else "",
                                                 f"{tw / peer_t:.4f}" if tw else "",
@@ -546,6 +570,38 @@ def summarize(a, rows, versions):
     (a.out / "mitsuba_compare.md").write_text(text + "\n")
     print(text)
     log(f"wrote {a.out}/mitsuba_compare.md, mitsuba_compare_raw.csv, mitsuba_compare_ratios.csv")
+
+
+def headline_ratio(cc, pc, spp, reps):
+    """The headline equal-error ratio at the peer's `spp` from the repetitions `reps` (a list, repeats allowed):
+    Prism's curve of (median time, mean RMSE) per spp and the peer's mean RMSE and median time, all over `reps`."""
+    def pick(rs):
+        return [r for k in reps for r in rs if r["rep"] == k]
+    med = []
+    for rs in cc.values():
+        chosen = pick(rs)
+        if chosen:
+            med.append((statistics.median(x["seconds"] for x in chosen), statistics.mean(x["rmse"] for x in chosen)))
+    prs = pick(pc.get(spp, []))
+    if not prs:
+        return None
+    tp, _ = time_to_error(med, statistics.mean(x["rmse"] for x in prs))
+    return tp / statistics.median(x["seconds"] for x in prs) if tp else None
+
+
+def headline_bootstrap(cc, pc, spp, draws=2000):
+    """A 95% percentile-bootstrap interval of the headline ratio at the peer's `spp`: repetitions drawn with
+    replacement (a fixed seed, so the same rows give the same interval); None with fewer than two repetitions."""
+    import random
+    reps = sorted({r["rep"] for r in pc.get(spp, [])})
+    if len(reps) < 2:
+        return None
+    rng = random.Random(12345)
+    vals = sorted(v for v in (headline_ratio(cc, pc, spp, [rng.choice(reps) for _ in reps]) for _ in range(draws))
+                  if v is not None)
+    if len(vals) < draws // 2:
+        return None
+    return vals[int(0.025 * (len(vals) - 1))], vals[int(0.975 * (len(vals) - 1))]
 
 
 def cost_by_depth(a):
@@ -601,6 +657,13 @@ def cost_by_depth(a):
 
 def main():
     a = parse_args()
+    if a.summarize:
+        rows = read_raw(a.summarize)
+        a.out.mkdir(parents=True, exist_ok=True)
+        if a.out.resolve() == a.summarize.resolve().parent:
+            sys.exit(f"error: --summarize would overwrite {a.summarize}; give another --out")
+        summarize(a, rows, {f"Mitsuba (rows of {a.summarize})"})
+        return
     if os.environ.get("PRISM_PEER_IN_VENV") != "1":
         bootstrap()  # does not return
     if a.cost_by_depth:
