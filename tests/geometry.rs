@@ -179,6 +179,109 @@ fn a_packets_whole_watertight_test_equals_the_scalar_kernel_lane_after_lane() {
     assert!(hits > 1000, "too few hits ({hits}) for the test to mean anything");
 }
 
+/// The watertight test as Woop, Benthin & Wald write it, each vertex less the origin multiplied by the full
+/// shear/permutation matrix (`WatertightRay::coefficients`: three products and two sums per coordinate), with
+/// pbrt-v4's rounding-error bound on `t`: the reference for the kernel, which maps a vertex by `d[kx] - sx d[kz]`,
+/// `d[ky] - sy d[kz]`, `sz d[kz]` and must get the same numbers.
+fn watertight_by_matrix(wt: &WatertightRay, v: [Vec3A; 3], tmax: f32) -> Option<[f32; 4]> {
+    let (o, rows) = wt.coefficients();
+    let map = |r: usize, p: Vec3A| {
+        let d = [p.x - o[0], p.y - o[1], p.z - o[2]];
+        d[0] * rows[r][0] + d[1] * rows[r][1] + d[2] * rows[r][2]
+    };
+    let (x, y, z) = (v.map(|p| map(0, p)), v.map(|p| map(1, p)), v.map(|p| map(2, p)));
+    let mut e = [x[2] * y[1] - y[2] * x[1], x[0] * y[2] - y[0] * x[2], x[1] * y[0] - y[1] * x[0]];
+    if e.contains(&0.0) {
+        let (x, y) = (x.map(f64::from), y.map(f64::from));
+        e = [
+            (x[2] * y[1] - y[2] * x[1]) as f32,
+            (x[0] * y[2] - y[0] * x[2]) as f32,
+            (x[1] * y[0] - y[1] * x[0]) as f32,
+        ];
+    }
+    if e.iter().any(|&a| a < 0.0) && e.iter().any(|&a| a > 0.0) {
+        return None;
+    }
+    let det = e[0] + e[1] + e[2];
+    if det == 0.0 {
+        return None;
+    }
+    let ts = e[0] * z[0] + e[1] * z[1] + e[2] * z[2];
+    let out = if det > 0.0 { ts <= 0.0 || ts >= tmax * det } else { ts >= 0.0 || ts <= tmax * det };
+    if out {
+        return None;
+    }
+    let inv = 1.0 / det;
+    let t = ts * inv;
+    let amax = |a: [f32; 3]| a[0].abs().max(a[1].abs()).max(a[2].abs());
+    let (max_zt, max_xt, max_yt, max_e) = (amax(z), amax(x), amax(y), amax(e));
+    let delta_z = gamma(3) * max_zt;
+    let delta_x = gamma(5) * (max_xt + max_zt);
+    let delta_y = gamma(5) * (max_yt + max_zt);
+    let delta_e = 2.0 * (gamma(2) * max_xt * max_yt + delta_y * max_xt + delta_x * max_yt);
+    let delta_t = 3.0 * (gamma(3) * max_e * max_zt + delta_e * max_zt + delta_z * max_e) * inv.abs();
+    if t <= delta_t {
+        return None;
+    }
+    Some([t, e[0] * inv, e[1] * inv, e[2] * inv])
+}
+
+/// The kernel's shear leaves out the matrix's zero and unit coefficients (two operations per coordinate instead of
+/// five): a product by 0 or 1 and a sum with zero are exact, so every hit, `t` and barycentric must be the matrix
+/// form's, bit for bit (a zero barycentric may differ in its sign only). Rays along and against every axis and
+/// diagonal (each permutation and sign of the largest component, ties between components), through the vertices
+/// and edges of a closed mesh (zero edge functions: the double-precision fallback), and random; and packets of four
+/// triangles, whose pre-filter and whole test take the same shortcut, against the same reference.
+#[test]
+fn the_kernels_shear_computes_the_full_matrix_product_bit_for_bit() {
+    let tris = closed_mesh(2);
+    let mut rng = Rng::new(31, 7);
+    let mut dirs: Vec<Vec3A> = vec![];
+    for a in [-1.0f32, 0.0, 1.0] {
+        for b in [-1.0f32, 0.0, 1.0] {
+            for c in [-1.0f32, 0.0, 1.0] {
+                if (a, b, c) != (0.0, 0.0, 0.0) {
+                    dirs.push(Vec3A::new(a, b, c).normalize());
+                }
+            }
+        }
+    }
+    let mut rays: Vec<Ray> = vec![];
+    for o in [Vec3A::new(0.1, -0.2, 0.05), Vec3A::new(-0.3, 0.25, 0.4)] {
+        rays.extend(dirs.iter().map(|&d| Ray::new(o, d)));
+        for t in &tris {
+            rays.push(Ray::new(o, (t[0] - o).normalize()));
+            rays.push(Ray::new(o, ((t[1] + t[2]) * 0.5 - o).normalize()));
+        }
+    }
+    for _ in 0..3000 {
+        let o = warp::uniform_sphere(rng.next_2d()) * (0.5 + 3.0 * rng.next_f32());
+        rays.push(Ray::new(o, warp::uniform_sphere(rng.next_2d())));
+    }
+    let same = |got: Option<[f32; 4]>, want: Option<[f32; 4]>| match (got, want) {
+        (Some(g), Some(w)) => g[0].to_bits() == w[0].to_bits() && g[1..] == w[1..],
+        (g, w) => g.is_none() && w.is_none(),
+    };
+    let mut hits = 0;
+    for ray in &rays {
+        let wt = WatertightRay::new(ray);
+        for chunk in tris.chunks(4) {
+            let packet = TriPacket::new(chunk);
+            let candidates = wt.packet_candidates(&packet);
+            for (k, t) in chunk.iter().enumerate() {
+                let want = watertight_by_matrix(&wt, *t, f32::INFINITY);
+                let got = wt.intersect(t[0], t[1], t[2], f32::INFINITY).map(|h| [h.t, h.b0, h.b1, h.b2]);
+                assert!(same(got, want), "ray {ray:?}, triangle {t:?}: kernel {got:?}, matrix {want:?}");
+                let lane = wt.intersect_packet(&packet, 1 << k, f32::INFINITY).map(|(_, h)| [h.t, h.b0, h.b1, h.b2]);
+                assert!(same(lane, want), "ray {ray:?}, packet lane {k}: {lane:?}, matrix {want:?}");
+                assert!(want.is_none() || candidates >> k & 1 == 1, "pre-filter rejected a hit: ray {ray:?}");
+                hits += want.is_some() as u32;
+            }
+        }
+    }
+    assert!(hits > 1000, "too few hits ({hits}) for the test to mean anything");
+}
+
 #[test]
 fn triangle_barycentrics_reconstruct_the_hit_point() {
     let (p0, p1, p2) = (Vec3A::new(0., 0., 0.), Vec3A::new(2., 0., 0.), Vec3A::new(0., 3., 1.));

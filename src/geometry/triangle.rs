@@ -1,7 +1,9 @@
 //! Watertight ray–triangle intersection (Woop, Benthin & Wald, "Watertight Ray/Triangle Intersection", JCGT 2013).
 //!
 //! The ray is turned once into a shear-and-permute map that sends its direction to +z; each triangle's vertices
-//! are mapped by it and the 2D edge functions decide the hit. An edge shared by two triangles yields exactly
+//! are mapped by it (`x = d[kx] - sx d[kz]`, `y = d[ky] - sy d[kz]`, `z = sz d[kz]` for a vertex less the origin
+//! `d`: the matrix product without its zero and unit coefficients, the same numbers for two operations where the
+//! full rows take five) and the 2D edge functions decide the hit. An edge shared by two triangles yields exactly
 //! negated edge functions in both, so a ray through a shared edge or vertex hits at least one of them: no cracks.
 //! Edge functions that come out exactly zero are recomputed in f64, as the paper prescribes. Hits closer than the
 //! rounding error of t are rejected (pbrt-v4's conservative t bound), so rays leaving a surface never re-hit it.
@@ -44,15 +46,33 @@ impl TriSoa {
     }
 }
 
-/// Per-ray precomputation: the origin and the rows of the shear/permutation matrix, each coefficient splatted
-/// across lanes.
+/// Per-ray precomputation: the permutation that makes the direction's largest component the last axis, the
+/// origin's coordinates on the permuted axes and the shear that sends the direction to +z, each number splatted
+/// across lanes. A vertex less the origin, `d`, maps to `x = d[kx] - sx d[kz]`, `y = d[ky] - sy d[kz]`, `z = sz
+/// d[kz]`: the product of the shear/permutation matrix's rows `e_kx - sx e_kz`, `e_ky - sy e_kz`, `sz e_kz` with `d`
+/// without its zero and unit coefficients, which give the same numbers (a product by 0 or 1 and a sum with zero
+/// are exact) for two operations where the full rows take five.
 #[derive(Clone, Copy, Debug)]
 pub struct WatertightRay {
-    ox: Vec3A,
-    oy: Vec3A,
-    oz: Vec3A,
-    /// Rows e_kx - sx e_kz, e_ky - sy e_kz and sz e_kz; `rows[r][c]` is coefficient c of row r, splatted.
-    rows: [[Vec3A; 3]; 3],
+    /// `(kx, ky, kz)`, kz the axis of the direction's largest component.
+    axes: [Axis; 3],
+    /// `(o[kx], o[ky], o[kz])`, splatted.
+    origin_k: [Vec3A; 3],
+    /// `(sx, sy, sz)`, splatted.
+    shear: [Vec3A; 3],
+}
+
+/// A coordinate axis, as an index the compiler knows to be below 3 (no bounds checks where it picks a coordinate).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[repr(usize)]
+pub(super) enum Axis {
+    X = 0,
+    Y = 1,
+    Z = 2,
+}
+
+impl Axis {
+    const ALL: [Axis; 3] = [Axis::X, Axis::Y, Axis::Z];
 }
 
 /// Hit distance and barycentric weights of the three vertices.
@@ -79,40 +99,41 @@ impl WatertightRay {
         let sz = 1.0 / d[kz];
         let sx = d[kx] * sz;
         let sy = d[ky] * sz;
-        // The rows e_kx - sx e_kz, e_ky - sy e_kz and sz e_kz, entry by entry as that arithmetic gives them
-        // (1 - sx 0 = 1, 0 - sx 0 = +0, 0 - sx = -sx, sz 0 = a zero of sz's sign).
-        let mut rows = [[0.0f32; 3], [0.0f32; 3], [sz * 0.0; 3]];
-        rows[0][kx] = 1.0;
-        rows[0][kz] = 0.0 - sx;
-        rows[1][ky] = 1.0;
-        rows[1][kz] = 0.0 - sy;
-        rows[2][kz] = sz;
-        let row = |r: [f32; 3]| [Vec3A::splat(r[0]), Vec3A::splat(r[1]), Vec3A::splat(r[2])];
-        let o = ray.origin;
+        let o = ray.origin.to_array();
         WatertightRay {
-            ox: Vec3A::splat(o.x),
-            oy: Vec3A::splat(o.y),
-            oz: Vec3A::splat(o.z),
-            rows: [row(rows[0]), row(rows[1]), row(rows[2])],
+            axes: [Axis::ALL[kx], Axis::ALL[ky], Axis::ALL[kz]],
+            origin_k: [Vec3A::splat(o[kx]), Vec3A::splat(o[ky]), Vec3A::splat(o[kz])],
+            shear: [Vec3A::splat(sx), Vec3A::splat(sy), Vec3A::splat(sz)],
         }
     }
 
-    /// The ray origin's coordinates and the shear/permutation matrix rows (coefficient c of row r at `[r][c]`),
-    /// each splatted across the four lanes of a `Vec4` for the packet tests. Every value is stored splatted across
-    /// all four lanes of its `Vec3A`, so this reinterprets the registers (no extraction and broadcast per packet).
+    /// The permutation `(kx, ky, kz)`, the origin on the permuted axes and the shear `(sx, sy, sz)`, the last two
+    /// splatted across the four lanes of a `Vec4` (see the fields).
     #[inline(always)]
-    pub(super) fn splats4(&self) -> ([Vec4; 3], [[Vec4; 3]; 3]) {
+    pub(super) fn permuted4(&self) -> ([Axis; 3], [Vec4; 3], [Vec4; 3]) {
         let v = |a: Vec3A| Vec4::from(__m128::from(a));
-        let row = |r: &[Vec3A; 3]| [v(r[0]), v(r[1]), v(r[2])];
-        ([v(self.ox), v(self.oy), v(self.oz)], [row(&self.rows[0]), row(&self.rows[1]), row(&self.rows[2])])
+        let [o0, o1, o2] = self.origin_k;
+        let [s0, s1, s2] = self.shear;
+        (self.axes, [v(o0), v(o1), v(o2)], [v(s0), v(s1), v(s2)])
     }
 
     /// The ray's origin and the shear/permutation rows (coefficient c of row r at `[r][c]`) as plain numbers, for
     /// kernels that test many rays at once lane by lane (the wide BVH's ray packets).
     #[inline(always)]
     pub fn coefficients(&self) -> ([f32; 3], [[f32; 3]; 3]) {
-        let row = |r: &[Vec3A; 3]| [r[0].x, r[1].x, r[2].x];
-        ([self.ox.x, self.oy.x, self.oz.x], [row(&self.rows[0]), row(&self.rows[1]), row(&self.rows[2])])
+        let [kx, ky, kz] = self.axes.map(|a| a as usize);
+        let [sx, sy, sz] = self.shear.map(|s| s.x);
+        let mut origin = [0.0f32; 3];
+        (origin[kx], origin[ky], origin[kz]) = (self.origin_k[0].x, self.origin_k[1].x, self.origin_k[2].x);
+        // The rows entry by entry as the arithmetic e_kx - sx e_kz, ... gives them (1 - sx 0 = 1, 0 - sx 0 = +0,
+        // 0 - sx = -sx, sz 0 = a zero of sz's sign).
+        let mut rows = [[0.0f32; 3], [0.0f32; 3], [sz * 0.0; 3]];
+        rows[0][kx] = 1.0;
+        rows[0][kz] = 0.0 - sx;
+        rows[1][ky] = 1.0;
+        rows[1][kz] = 0.0 - sy;
+        rows[2][kz] = sz;
+        (origin, rows)
     }
 
     /// Intersect the triangle `(p0, p1, p2)`; hits with `t` in `(0, tmax)` only.
@@ -124,11 +145,16 @@ impl WatertightRay {
     /// Intersect a triangle in SoA form; hits with `t` in `(0, tmax)` only.
     #[inline(always)]
     pub fn intersect_soa(&self, tri: &TriSoa, tmax: f32) -> Option<TriangleHit> {
-        let (dx, dy, dz) = (tri.xs - self.ox, tri.ys - self.oy, tri.zs - self.oz);
-        let [r0, r1, r2] = &self.rows;
+        let pick = |a: Axis| match a {
+            Axis::X => tri.xs,
+            Axis::Y => tri.ys,
+            Axis::Z => tri.zs,
+        };
+        let ([kx, ky, kz], [okx, oky, okz], [sx, sy, sz]) = (self.axes, self.origin_k, self.shear);
         // Lane i holds vertex i's sheared coordinate.
-        let x = dx * r0[0] + dy * r0[1] + dz * r0[2];
-        let y = dx * r1[0] + dy * r1[1] + dz * r1[2];
+        let dz = pick(kz) - okz;
+        let x = pick(kx) - okx - sx * dz;
+        let y = pick(ky) - oky - sy * dz;
         // Edge functions (U, V, W) = (x2 y1 - y2 x1, x0 y2 - y0 x2, x1 y0 - y1 x0): the barycentric weights of the
         // vertices opposite each edge. A shared edge gives exactly negated values in its two triangles.
         let mut uvw = x.zxy() * y.yzx() - y.zxy() * x.yzx();
@@ -148,7 +174,7 @@ impl WatertightRay {
         if det == 0.0 {
             return None;
         }
-        let z = dx * r2[0] + dy * r2[1] + dz * r2[2];
+        let z = sz * dz;
         let t_scaled = u * z.x + v * z.y + w * z.z;
         if det > 0.0 {
             if t_scaled <= 0.0 || t_scaled >= tmax * det {

@@ -59,11 +59,12 @@ impl WatertightRay {
     /// and only the exact test's double-precision fallback can tell). Never clears a bit the exact test would hit.
     #[inline(always)]
     pub fn packet_candidates(&self, p: &TriPacket) -> u32 {
-        let ([o_x, o_y, o_z], [[c00, c01, c02], [c10, c11, c12], _]) = self.splats4();
-        // Sheared x and y of vertex i, as in `intersect_soa` (same products, same order of additions).
+        let ([kx, ky, kz], [ox, oy, oz], [sx, sy, _]) = self.permuted4();
+        // Sheared x and y of vertex i: the numbers `intersect_soa` computes (see `WatertightRay::permuted4`).
         let sheared = |i: usize| {
-            let (dx, dy, dz) = (p.v[i][0] - o_x, p.v[i][1] - o_y, p.v[i][2] - o_z);
-            (dx * c00 + dy * c01 + dz * c02, dx * c10 + dy * c11 + dz * c12)
+            let v = &p.v[i];
+            let dz = v[kz as usize] - oz;
+            (v[kx as usize] - ox - sx * dz, v[ky as usize] - oy - sy * dz)
         };
         let (x0, y0) = sheared(0);
         let (x1, y1) = sheared(1);
@@ -86,12 +87,16 @@ impl WatertightRay {
     /// previous hit's `t` (so ties go to the lowest lane).
     #[inline(always)]
     pub fn intersect_packet(&self, p: &TriPacket, lanes: u32, tmax: f32) -> Option<(usize, TriangleHit)> {
-        let ([o_x, o_y, o_z], [[c00, c01, c02], [c10, c11, c12], [c20, c21, c22]]) = self.splats4();
-        let d = |i: usize| (p.v[i][0] - o_x, p.v[i][1] - o_y, p.v[i][2] - o_z);
+        let ([kx, ky, kz], [okx, oky, okz], [shx, shy, shz]) = self.permuted4();
+        // Vertex i less the origin on the permuted axes, then sheared (see `WatertightRay::permuted4`).
+        let d = |i: usize| {
+            let v = &p.v[i];
+            (v[kx as usize] - okx, v[ky as usize] - oky, v[kz as usize] - okz)
+        };
         let (d0, d1, d2) = (d(0), d(1), d(2));
-        let sx = |d: (Vec4, Vec4, Vec4)| d.0 * c00 + d.1 * c01 + d.2 * c02;
-        let sy = |d: (Vec4, Vec4, Vec4)| d.0 * c10 + d.1 * c11 + d.2 * c12;
-        let sz = |d: (Vec4, Vec4, Vec4)| d.0 * c20 + d.1 * c21 + d.2 * c22;
+        let sx = |d: (Vec4, Vec4, Vec4)| d.0 - shx * d.2;
+        let sy = |d: (Vec4, Vec4, Vec4)| d.1 - shy * d.2;
+        let sz = |d: (Vec4, Vec4, Vec4)| shz * d.2;
         let (x0, x1, x2) = (sx(d0), sx(d1), sx(d2));
         let (y0, y1, y2) = (sy(d0), sy(d1), sy(d2));
         let u = x2 * y1 - y2 * x1;

@@ -2,9 +2,11 @@
 //! which take nearly the same path through the tree). The packet goes down the tree once with a mask of the lanes
 //! still active; every box is tested against the sixteen rays lane by lane (one AVX-512 register, or two AVX2
 //! ones: the code is written as loops over lanes and compiled for those targets by `multiversion`, with run-time
-//! dispatch), and so is every triangle of a leaf, with the watertight kernel's operations in the scalar kernel's
-//! order (no fused or reassociated arithmetic), so each lane computes the same `t` and barycentrics as
-//! [`WatertightRay::intersect_soa`]. Lanes whose edge function comes out exactly zero (a ray through an edge or a
+//! dispatch), and so is every triangle of a leaf, with the watertight kernel's arithmetic in its matrix form (each
+//! lane's ray has its own axis permutation, so each maps the vertices by the full rows of
+//! [`WatertightRay::coefficients`]; no fused or reassociated arithmetic), which gives the numbers of
+//! [`WatertightRay::intersect_soa`]'s shortcut (a product by 0 or 1 and a sum with zero are exact; checked in
+//! `tests/geometry.rs`), so each lane computes the same `t` and barycentrics. Lanes whose edge function comes out exactly zero (a ray through an edge or a
 //! vertex, where the scalar kernel recomputes in double precision) and analytic primitives go through the scalar
 //! code, lane by lane.
 //!
