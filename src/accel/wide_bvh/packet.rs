@@ -6,9 +6,9 @@
 //! lane's ray has its own axis permutation, so each maps the vertices by the full rows of
 //! [`WatertightRay::coefficients`]; no fused or reassociated arithmetic), which gives the numbers of
 //! [`WatertightRay::intersect_soa`]'s shortcut (a product by 0 or 1 and a sum with zero are exact; checked in
-//! `tests/geometry.rs`), so each lane computes the same `t` and barycentrics. Lanes whose edge function comes out exactly zero (a ray through an edge or a
-//! vertex, where the scalar kernel recomputes in double precision) and analytic primitives go through the scalar
-//! code, lane by lane.
+//! `tests/geometry.rs`), so each lane computes the same `t` and barycentrics. Lanes whose edge function comes out
+//! exactly zero (a ray through an edge or a vertex, where the scalar kernel recomputes in double precision) and
+//! analytic primitives go through the scalar code, lane by lane.
 //!
 //! Every lane gets the closest hit of its ray, as [`WideBvh::intersect`] gives it; the one difference is which of
 //! two primitives at exactly the same distance is reported (the first met wins in both, and the packet meets the
