@@ -373,6 +373,98 @@ fn offset_is_proportional_to_the_rounding_error_so_thin_walls_do_not_leak() {
     }
 }
 
+/// pbrt-v4's `OffsetRayOrigin` written coordinate by coordinate with its `NextFloatUp` / `NextFloatDown` branches:
+/// the reference for the renderer's version, which rounds the four lanes at once with masks.
+fn offset_by_branches(p: Vec3A, p_err: Vec3A, n: Vec3A, w: Vec3A) -> Vec3A {
+    fn next_up(v: f32) -> f32 {
+        if v.is_infinite() && v > 0.0 {
+            return v;
+        }
+        let v = if v == -0.0 { 0.0 } else { v };
+        f32::from_bits(if v >= 0.0 { v.to_bits() + 1 } else { v.to_bits() - 1 })
+    }
+    fn next_down(v: f32) -> f32 {
+        if v.is_infinite() && v < 0.0 {
+            return v;
+        }
+        let v = if v == 0.0 { -0.0 } else { v };
+        f32::from_bits(if v > 0.0 { v.to_bits() - 1 } else { v.to_bits() + 1 })
+    }
+    let d = n.abs().dot(p_err);
+    let mut offset = n * d;
+    if w.dot(n) < 0.0 {
+        offset = -offset;
+    }
+    let po = p + offset;
+    let round = |v: f32, o: f32| {
+        if o > 0.0 {
+            next_up(v)
+        } else if o < 0.0 {
+            next_down(v)
+        } else {
+            v
+        }
+    };
+    Vec3A::new(round(po.x, offset.x), round(po.y, offset.y), round(po.z, offset.z))
+}
+
+#[test]
+fn offset_origins_round_outward_exactly_as_pbrts_next_float_up_and_down() {
+    // Every sign and kind of coordinate (zeros of both signs, the smallest denormals, infinities, NaN, the largest
+    // finite values) against offsets of every sign, zero offsets of both signs included: the renderer's mask form
+    // must give pbrt's branchy result bit for bit, or a spawned ray could start inside its surface.
+    let specials = [
+        0.0,
+        -0.0,
+        f32::from_bits(1),
+        -f32::from_bits(1),
+        1.0,
+        -1.0,
+        0.3,
+        -7.5e4,
+        f32::MAX,
+        f32::MIN,
+        f32::INFINITY,
+        f32::NEG_INFINITY,
+        f32::NAN,
+    ];
+    let normals = [Vec3A::X, -Vec3A::Y, Vec3A::Z, Vec3A::new(0.6, -0.8, 0.0), Vec3A::new(-0.0, 0.6, 0.8)];
+    let errors = [Vec3A::ZERO, Vec3A::splat(1e-7), Vec3A::new(0.0, 3e-6, f32::from_bits(1))];
+    let mut rng = Rng::new(17, 3);
+    let mut cases = 0;
+    for &x in &specials {
+        for &y in &specials {
+            let p = Vec3A::new(x, y, specials[cases % specials.len()]);
+            for &n in &normals {
+                for &p_err in &errors {
+                    for w in [n, -n, Vec3A::new(n.y, -n.x, 0.0), Vec3A::new(-n.y, n.x, -0.0)] {
+                        let got = offset_ray_origin(p, p_err, n, w);
+                        let want = offset_by_branches(p, p_err, n, w);
+                        for k in 0..3 {
+                            assert_eq!(
+                                got[k].to_bits(),
+                                want[k].to_bits(),
+                                "coordinate {k} of p {p:?}, error {p_err:?}, normal {n:?}, side {w:?}"
+                            );
+                        }
+                        cases += 1;
+                    }
+                }
+            }
+        }
+    }
+    for _ in 0..20_000 {
+        let mut v = || (rng.next_f32() - 0.5) * 10f32.powi((rng.next_f32() * 12.0) as i32 - 6);
+        let p = Vec3A::new(v(), v(), v());
+        let n = Vec3A::new(v(), v(), v()).normalize_or(Vec3A::Z);
+        let w = Vec3A::new(v(), v(), v());
+        let got = offset_ray_origin(p, gamma(7) * p.abs(), n, w);
+        let want = offset_by_branches(p, gamma(7) * p.abs(), n, w);
+        assert_eq!(got.to_array().map(f32::to_bits), want.to_array().map(f32::to_bits), "p {p:?}, n {n:?}");
+    }
+    assert!(cases > 10_000);
+}
+
 #[test]
 fn fresnel_reflectance_matches_the_closed_form_and_grazing_limit() {
     // Normal incidence: R0 = ((eta - 1) / (eta + 1))^2, from either side; grazing: total reflection.
