@@ -145,11 +145,10 @@ impl WatertightRay {
     /// Intersect a triangle in SoA form; hits with `t` in `(0, tmax)` only.
     #[inline(always)]
     pub fn intersect_soa(&self, tri: &TriSoa, tmax: f32) -> Option<TriangleHit> {
-        let pick = |a: Axis| match a {
-            Axis::X => tri.xs,
-            Axis::Y => tri.ys,
-            Axis::Z => tri.zs,
-        };
+        // Indexed, not matched: the axes vary from ray to ray, and a match compiled to branches that bounce rays
+        // mispredicted.
+        let coords = [tri.xs, tri.ys, tri.zs];
+        let pick = |a: Axis| coords[a as usize];
         let ([kx, ky, kz], [okx, oky, okz], [sx, sy, sz]) = (self.axes, self.origin_k, self.shear);
         // Lane i holds vertex i's sheared coordinate.
         let dz = pick(kz) - okz;
