@@ -323,8 +323,26 @@ impl Bsdf {
     }
 
     /// `eval` and `pdf` of one direction together (one change of frame): what next-event estimation with MIS needs.
-    #[inline]
+    /// A lone Lambertian lobe is evaluated inline in the caller (next-event estimation), every other BSDF out of
+    /// line.
+    #[inline(always)]
     pub fn eval_pdf(&self, wi: Vec3A) -> (Vec3, f32) {
+        if self.len == 1
+            && self.smooth
+            && let Lobe::Diffuse { .. } = self.lobes[0]
+        {
+            let wl = self.frame.to_local(wi);
+            if !self.consistent(wi, wl) {
+                return (Vec3::ZERO, 0.0);
+            }
+            return self.lobes[0].eval_pdf(self.wo_local, wl, TransportMode::Radiance);
+        }
+        self.eval_pdf_general(wi)
+    }
+
+    /// [`Bsdf::eval_pdf`] for every BSDF but a lone Lambertian lobe.
+    #[inline(never)]
+    fn eval_pdf_general(&self, wi: Vec3A) -> (Vec3, f32) {
         let wl = self.frame.to_local(wi);
         if !self.smooth || !self.consistent(wi, wl) {
             return (Vec3::ZERO, 0.0);
@@ -366,35 +384,54 @@ impl Bsdf {
     }
 
     /// Sample a direction (radiance): `u_lobe` picks the lobe (and is reused within it), `u` the direction.
-    #[inline]
+    ///
+    /// A lone Lambertian lobe is sampled inline in the caller (the path loop); every other BSDF through the general
+    /// code, kept out of line.
+    #[inline(always)]
     pub fn sample(&self, u_lobe: f32, u: Vec2) -> Option<BsdfSample> {
-        self.sample_mode(u_lobe, u, TransportMode::Radiance)
+        if self.len == 1
+            && let Lobe::Diffuse { albedo } = self.lobes[0]
+        {
+            return self.sample_lambert(albedo, u, TransportMode::Radiance);
+        }
+        self.sample_general(u_lobe, u, TransportMode::Radiance)
+    }
+
+    /// The common case, a lone Lambertian lobe of `albedo`: cosine sampling, weight = albedo exactly.
+    #[inline(always)]
+    fn sample_lambert(&self, albedo: Vec3, u: Vec2, mode: TransportMode) -> Option<BsdfSample> {
+        if self.wo_local.z <= 0.0 {
+            return None;
+        }
+        let wl = crate::sampling::warp::cosine_hemisphere(u);
+        let wi = self.frame.to_world(wl);
+        if !self.consistent(wi, wl) {
+            return None;
+        }
+        let pdf = crate::sampling::warp::cosine_hemisphere_pdf(wl);
+        if pdf <= 0.0 {
+            return None;
+        }
+        let weight = albedo * self.correction(wi, mode);
+        Some(BsdfSample { wi, weight, pdf, delta: false, eta: 1.0 })
     }
 
     /// Sample a direction for the given transport mode.
     #[inline(always)]
     pub fn sample_mode(&self, u_lobe: f32, u: Vec2, mode: TransportMode) -> Option<BsdfSample> {
-        if self.len == 0 {
-            return None;
-        }
         if self.len == 1
             && let Lobe::Diffuse { albedo } = self.lobes[0]
         {
-            // The common case, a lone Lambertian lobe: cosine sampling, weight = albedo exactly.
-            if self.wo_local.z <= 0.0 {
-                return None;
-            }
-            let wl = crate::sampling::warp::cosine_hemisphere(u);
-            let wi = self.frame.to_world(wl);
-            if !self.consistent(wi, wl) {
-                return None;
-            }
-            let pdf = crate::sampling::warp::cosine_hemisphere_pdf(wl);
-            if pdf <= 0.0 {
-                return None;
-            }
-            let weight = albedo * self.correction(wi, mode);
-            return Some(BsdfSample { wi, weight, pdf, delta: false, eta: 1.0 });
+            return self.sample_lambert(albedo, u, mode);
+        }
+        self.sample_general(u_lobe, u, mode)
+    }
+
+    /// [`Bsdf::sample_mode`] for every BSDF but a lone Lambertian lobe.
+    #[inline(never)]
+    fn sample_general(&self, u_lobe: f32, u: Vec2, mode: TransportMode) -> Option<BsdfSample> {
+        if self.len == 0 {
+            return None;
         }
         let i = self.cdf[..self.len].iter().position(|&c| u_lobe < c).unwrap_or(self.len - 1);
         let p = self.lobe_probability(i);
