@@ -16,9 +16,11 @@ pub const fn gamma(n: i32) -> f32 {
     (n as f32 * u) / (1.0 - n as f32 * u)
 }
 
-/// The sign bit of an `f32`'s bits, the rest, and the rest's value at infinity.
+/// The sign bit of an `f32`'s bits.
 const SIGN: u32 = 0x8000_0000;
+/// The bits of an `f32` but its sign.
 const MAGNITUDE: u32 = 0x7FFF_FFFF;
+/// The magnitude bits of an infinity (above them: NaN).
 const INFINITY: u32 = 0x7F80_0000;
 
 /// All ones where `b` holds, zero otherwise.
