@@ -95,10 +95,13 @@ impl PathTracer {
             let (u_choice, u_light) = (sampler.defer_1d(), sampler.next_2d());
             let (u_lobe, u_bsdf) = (sampler.defer_1d(), sampler.next_2d());
             let u_rr = sampler.defer_1d();
-            let traced = match first.take() {
-                Some(hit) => hit.map(|h| scene.prims.surface(&ray, &h)),
-                None => scene.trace(&ray),
+            // One copy of the hit record's construction for the camera's hit and every later one (inlined here,
+            // where `Scene::trace` would build it out of line and move it).
+            let hit = match first.take() {
+                Some(hit) => hit,
+                None => scene.intersect(&ray),
             };
+            let traced = hit.map(|h| scene.prims.surface(&ray, &h));
             let Some(s) = traced else {
                 if let Some(env) = &scene.lights.environment {
                     let le = env.eval(ray.dir);
