@@ -1,14 +1,14 @@
 //! Textures and normal maps: the two appearance scenes against their Mitsuba 3 references, texture lookups at
 //! known uvs (texel centres, every wrap mode, bilinear weights, sRGB decoded per texel), normal maps (a flat map
 //! changes nothing, a map of known slope tilts the normal by that slope, mirrored uvs through MikkTSpace), bump
-//! maps of known slope, and every bad appearance input.
+//! maps of known slope, which colours count as zero, and every bad appearance input.
 
 use crate::common::{app_from_ron, prism, rmse_against_reference, scratch};
 use glam::{Vec2, Vec3, Vec3A};
 use prism::geometry::Ray;
 use prism::io::srgb_to_linear;
 use prism::settings::Overrides;
-use prism::texture::{TexImage, Wrap};
+use prism::texture::{ColorParam, TexImage, Wrap};
 
 #[test]
 fn cornell_rough_matches_the_mitsuba_reference() {
@@ -319,4 +319,35 @@ fn sphere_texture_coordinates_are_computed_only_where_a_material_or_light_reads_
             assert_eq!((s.uv, s.dpdu, s.dpdv), (Vec2::ZERO, Vec3A::ZERO, Vec3A::ZERO));
         }
     }
+}
+
+#[test]
+fn a_colour_is_zero_exactly_when_every_component_equals_zero() {
+    // `ColorParam::is_zero` decides which lobes a material has (a zero lobe is left out, and a Phong material with
+    // only a constant diffuse colour takes the one-Lambert-lobe path); it compares bits, and must agree with
+    // `== 0.0` per component: both zeros count, NaN, denormals and anything else do not.
+    let specials = [
+        0.0,
+        -0.0,
+        f32::MIN_POSITIVE,
+        -f32::from_bits(1),
+        f32::from_bits(1),
+        1.0,
+        -2.5,
+        f32::NAN,
+        -f32::NAN,
+        f32::INFINITY,
+        f32::NEG_INFINITY,
+        f32::MAX,
+    ];
+    for &x in &specials {
+        for &y in &specials {
+            for &z in &specials {
+                let c = Vec3::new(x, y, z);
+                let expected = x == 0.0 && y == 0.0 && z == 0.0;
+                assert_eq!(ColorParam::Const(c).is_zero(), expected, "{c:?}");
+            }
+        }
+    }
+    assert!(!ColorParam::Map { tex: 0, scale: Vec3::ZERO }.is_zero(), "a texture is never the constant 0");
 }
