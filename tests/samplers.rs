@@ -471,32 +471,41 @@ fn batched_sobol_points_equal_the_one_point_function() {
 }
 
 /// A sampler handed a batch's points answers with the numbers it would have computed: every request of a path
-/// of eight vertices (1D and 2D, the batched dimensions and the others) for sixteen samples of two pixels, with
-/// the batch naming dimensions the path asks for, one it asks for as 1D numbers and one it never reaches.
+/// of eight vertices (1D and 2D, the batched dimensions and the others) for sixteen samples, with the batch naming
+/// dimensions the path asks for, one it asks for as 1D numbers and one it never reaches. Both ways a chunk is
+/// filled: lanes from two pixels (`set_lanes` over part of the chunk) and one pixel's whole chunk (its own path).
 #[test]
 fn a_sampler_given_batched_points_gives_the_numbers_it_would_compute() {
     // Vertex v's dimensions as `envlight` draws them: 1D, 2D, 1D, 2D, 1D from 4 + 7 v.
     let dims: Vec<u32> = (0..4u32).flat_map(|v| [4 + 7 * v + 1, 4 + 7 * v + 4]).chain([7, 500]).collect();
-    let mut pixels = [sobol(0xabc), sobol(0xdef)];
-    let mut batch = SobolBatch::new(&dims);
-    let owner = |lane: usize| (lane / 10, 3 + lane as u32 % 10);
-    batch.set_lanes(0, 10, &mut pixels[0], 3);
-    batch.set_lanes(10, SOBOL_BATCH - 10, &mut pixels[1], 3);
-    batch.compute();
-    for lane in 0..SOBOL_BATCH {
-        let (p, index) = owner(lane);
-        let (s, mut fresh) = (&mut pixels[p], sobol([0xabc, 0xdef][p]));
-        s.start(index);
-        fresh.start(index);
-        for r in [&mut *s, &mut fresh] {
-            r.skip_2d();
-            r.skip_2d();
+    // Lanes of the first pixel; the rest are the second pixel's.
+    for first_pixel_lanes in [10, SOBOL_BATCH] {
+        let mut pixels = [sobol(0xabc), sobol(0xdef)];
+        let mut batch = SobolBatch::new(&dims);
+        let owner = |lane: usize| {
+            let p = usize::from(lane >= first_pixel_lanes);
+            (p, 3 + (lane - p * first_pixel_lanes) as u32)
+        };
+        batch.set_lanes(0, first_pixel_lanes, &mut pixels[0], 3);
+        if first_pixel_lanes < SOBOL_BATCH {
+            batch.set_lanes(first_pixel_lanes, SOBOL_BATCH - first_pixel_lanes, &mut pixels[1], 3);
         }
-        batch.load(lane, s);
-        for v in 0..8 {
-            let a = (s.next_1d(), s.next_2d(), s.next_1d(), s.next_2d(), s.next_1d());
-            let b = (fresh.next_1d(), fresh.next_2d(), fresh.next_1d(), fresh.next_2d(), fresh.next_1d());
-            assert_eq!(a, b, "lane {lane} vertex {v}");
+        batch.compute();
+        for lane in 0..SOBOL_BATCH {
+            let (p, index) = owner(lane);
+            let (s, mut fresh) = (&mut pixels[p], sobol([0xabc, 0xdef][p]));
+            s.start(index);
+            fresh.start(index);
+            for r in [&mut *s, &mut fresh] {
+                r.skip_2d();
+                r.skip_2d();
+            }
+            batch.load(lane, s);
+            for v in 0..8 {
+                let a = (s.next_1d(), s.next_2d(), s.next_1d(), s.next_2d(), s.next_1d());
+                let b = (fresh.next_1d(), fresh.next_2d(), fresh.next_1d(), fresh.next_2d(), fresh.next_1d());
+                assert_eq!(a, b, "{first_pixel_lanes} lanes of the first pixel: lane {lane} vertex {v}");
+            }
         }
     }
 }

@@ -50,14 +50,21 @@ impl SobolBatch {
     #[inline]
     pub fn set_lanes(&mut self, first: usize, count: usize, sampler: &mut Sampler, index: u32) {
         let lanes = first..first + count;
+        debug_assert!(lanes.end <= SOBOL_BATCH);
         for (k, l) in self.index_rev[lanes.clone()].iter_mut().enumerate() {
             // Wrapping, as the samplers' indices (`Sampler::start` takes the index modulo 2^32).
             *l = index.wrapping_add(k as u32).reverse_bits();
         }
         for (d, keys) in self.dims[..self.n].iter().zip(self.keys.iter_mut()) {
             let k = sampler.keys_2d(*d);
-            for (j, key) in keys.iter_mut().enumerate() {
-                key[lanes.clone()].fill(k[j]);
+            if count == SOBOL_BATCH {
+                // A whole chunk from one pixel (the common case, `spp >= 16`): whole-array stores, which compile to
+                // a few vector stores instead of a fill over a range checked at run time.
+                *keys = k.map(|kj| [kj; SOBOL_BATCH]);
+            } else {
+                for (j, key) in keys.iter_mut().enumerate() {
+                    key[lanes.clone()].fill(k[j]);
+                }
             }
         }
     }
