@@ -136,13 +136,32 @@ impl Accel {
         }
     }
 
+    /// The closest hit. The `bvh` (the default) is called directly; the other accelerators through an out-of-line
+    /// dispatch, so that what the path loops inline stays small.
     #[inline]
     pub fn intersect(&self, prims: &Primitives, ray: &Ray) -> Option<Hit> {
+        match self {
+            Accel::Bvh(a) => a.intersect(prims, ray),
+            _ => self.intersect_other(prims, ray),
+        }
+    }
+
+    #[inline(never)]
+    fn intersect_other(&self, prims: &Primitives, ray: &Ray) -> Option<Hit> {
         dispatch!(self, a => a.intersect(prims, ray))
     }
 
+    /// Whether anything blocks the ray before its `tmax` (dispatched as [`Accel::intersect`]).
     #[inline]
     pub fn occluded(&self, prims: &Primitives, ray: &Ray) -> bool {
+        match self {
+            Accel::Bvh(a) => a.occluded(prims, ray),
+            _ => self.occluded_other(prims, ray),
+        }
+    }
+
+    #[inline(never)]
+    fn occluded_other(&self, prims: &Primitives, ray: &Ray) -> bool {
         dispatch!(self, a => a.occluded(prims, ray))
     }
 

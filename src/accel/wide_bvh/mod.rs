@@ -418,8 +418,20 @@ impl WideBvh {
     fn run<const ANY: bool, C: WorkCounter>(&self, prims: &Primitives, ray: &Ray, counter: &mut C) -> Option<Hit> {
         match self.avx {
             Some(simd) => Simd::vectorize(simd, AvxQuery::<ANY, C> { simd, bvh: self, prims, ray, counter }),
-            None => self.query::<ANY, C, _>(prims, ray, counter, &RayBoxes::new(ray)),
+            None => self.run_scalar::<ANY, C>(prims, ray, counter),
         }
+    }
+
+    /// [`WideBvh::run`] on CPUs without AVX2: out of line, so that the dispatch inlined into its callers stays a
+    /// test and a call.
+    #[inline(never)]
+    fn run_scalar<const ANY: bool, C: WorkCounter>(
+        &self,
+        prims: &Primitives,
+        ray: &Ray,
+        counter: &mut C,
+    ) -> Option<Hit> {
+        self.query::<ANY, C, _>(prims, ray, counter, &RayBoxes::new(ray))
     }
 }
 
