@@ -101,7 +101,13 @@ impl PathTracer {
                 Some(hit) => hit,
                 None => scene.intersect(&ray),
             };
-            let traced = hit.map(|h| scene.prims.surface(&ray, &h));
+            // A `match`, not `Option::map`: LLVM folds the map's closure into `Scene::trace`'s identical one and
+            // calls it out of line.
+            #[allow(clippy::manual_map)]
+            let traced = match hit {
+                Some(h) => Some(scene.prims.surface(&ray, &h)),
+                None => None,
+            };
             let Some(s) = traced else {
                 if let Some(env) = &scene.lights.environment {
                     let le = env.eval(ray.dir);
