@@ -389,12 +389,7 @@ impl Bsdf {
     /// code, kept out of line.
     #[inline(always)]
     pub fn sample(&self, u_lobe: f32, u: Vec2) -> Option<BsdfSample> {
-        if self.len == 1
-            && let Lobe::Diffuse { albedo } = self.lobes[0]
-        {
-            return self.sample_lambert(albedo, u, TransportMode::Radiance);
-        }
-        self.sample_general(u_lobe, u, TransportMode::Radiance)
+        self.sample_mode(u_lobe, u, TransportMode::Radiance)
     }
 
     /// The common case, a lone Lambertian lobe of `albedo`: cosine sampling, weight = albedo exactly.
