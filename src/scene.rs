@@ -8,7 +8,7 @@ use crate::bsdf::Bsdf;
 use crate::camera::CameraRig;
 use crate::geometry::Ray;
 use crate::lights::LightSet;
-use crate::material::Material;
+use crate::material::{Material, MaterialSet};
 use crate::primitives::{Hit, NO_LIGHT, Primitives, SurfaceHit};
 use crate::texture::TextureSet;
 use glam::{Vec3, Vec3A};
@@ -20,7 +20,7 @@ pub struct Scene {
     pub prims: Primitives,
     pub accel: Accel,
     pub lights: LightSet,
-    pub materials: Vec<Material>,
+    pub materials: MaterialSet,
     pub textures: TextureSet,
     pub globals: SceneGlobals,
     /// Set when the render is cancelled (Ctrl-C): estimators whose work per sample can be huge (Whitted-style

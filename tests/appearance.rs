@@ -351,3 +351,77 @@ fn a_colour_is_zero_exactly_when_every_component_equals_zero() {
     }
     assert!(!ColorParam::Map { tex: 0, scale: Vec3::ZERO }.is_zero(), "a texture is never the constant 0");
 }
+
+#[test]
+fn the_one_lambert_lobe_shortcut_gives_the_general_bsdf_and_only_plain_lambert_materials_take_it() {
+    // `MaterialSet` classifies materials when the scene is built; a Phong-family material whose only term is a
+    // constant diffuse colour is resolved at a hit without the general lobe assembly. The shortcut must change no
+    // number: the BSDF it builds reflects exactly what the one Lambertian lobe of the general assembly reflects
+    // (albedo / pi times the cosine, cosine-distributed samples), front and back, and every other material —
+    // textured, with ambient, specular, mirror or glass terms, another kind — must not take it.
+    use prism::bsdf::{Bsdf, Lobe};
+    use prism::material::{Material, MaterialKind, MaterialSet, PhongParams};
+    use prism::primitives::{Primitives, SurfaceHit};
+    use prism::texture::{ScalarParam, TextureSet};
+    let albedo = Vec3::new(0.7, 0.5, 0.3);
+    let with = |p: PhongParams| Material::phong("m", p);
+    let base = PhongParams { diffuse: ColorParam::Const(albedo), ..PhongParams::default() };
+    let mut one_sided = Material::lambert("one-sided", albedo);
+    one_sided.two_sided = false;
+    let list = vec![
+        Material::lambert("plain", albedo),
+        one_sided,
+        Material::lambert("black", Vec3::ZERO),
+        with(PhongParams { diffuse: ColorParam::Map { tex: 0, scale: Vec3::ONE }, ..PhongParams::default() }),
+        with(PhongParams { ambient: ColorParam::Const(Vec3::splat(0.1)), ..base.clone() }),
+        with(PhongParams {
+            specular: ColorParam::Const(Vec3::splat(0.2)),
+            exponent: ScalarParam::Const(20.0),
+            ..base.clone()
+        }),
+        with(PhongParams { reflective: ColorParam::Const(Vec3::splat(0.2)), ..base.clone() }),
+        with(PhongParams { transparent: ColorParam::Const(Vec3::splat(0.2)), ..base.clone() }),
+        Material {
+            name: "blend".into(),
+            kind: MaterialKind::Blend { a: 0, b: 0, weight: ScalarParam::Const(0.5) },
+            two_sided: true,
+        },
+    ];
+    let set = MaterialSet::new(list);
+    let shortcut: Vec<bool> = (0..10).map(|id| set.lambert(id).is_some()).collect();
+    assert_eq!(shortcut, [true, true, true, false, false, false, false, false, false, false]);
+    assert_eq!(set.lambert(0), Some(albedo));
+
+    let n = Vec3A::new(0.3, 0.4, 0.866).normalize();
+    let hit = |material: u32| SurfaceHit {
+        p: Vec3A::ZERO,
+        p_err: Vec3A::ZERO,
+        ng: n,
+        ns: n,
+        uv: Vec2::ZERO,
+        dpdu: Vec3A::X,
+        dpdv: Vec3A::Y,
+        t: 1.0,
+        prim: 0,
+        material,
+        light: u32::MAX,
+    };
+    let (textures, prims) = (TextureSet::default(), Primitives::default());
+    let resolve = |material: u32, wo: Vec3A| {
+        let mut b = Bsdf::from_lobes(Vec3A::Z, Vec3A::Z, &[Lobe::Diffuse { albedo: Vec3::ONE }]).unwrap();
+        prism::material::bsdf_into(&set, &textures, &prims, &hit(material), wo, None, &mut b).then_some(b)
+    };
+    for wo in [Vec3A::new(0.1, -0.2, 1.0).normalize(), Vec3A::new(-0.5, 0.3, -0.8).normalize()] {
+        let general = Bsdf::from_lobes(n, wo, &[Lobe::Diffuse { albedo }]).expect("a lit lobe");
+        let fast = resolve(0, wo).expect("two-sided plain Lambert reflects on both sides");
+        for k in 0..16 {
+            let u = Vec2::new((k as f32 + 0.5) / 16.0, ((k * 7) % 16) as f32 / 16.0 + 0.03);
+            let (a, b) = (fast.sample(0.5, u).unwrap(), general.sample(0.5, u).unwrap());
+            assert_eq!((a.wi, a.weight, a.pdf, a.delta), (b.wi, b.weight, b.pdf, b.delta), "wo {wo}, u {u}");
+            assert_eq!(fast.eval(a.wi), general.eval(a.wi));
+        }
+        // The one-sided copy reflects only on the normal's side; black reflects nothing.
+        assert_eq!(resolve(1, wo).is_some(), wo.dot(n) >= 0.0, "wo {wo}");
+        assert!(resolve(2, wo).is_none());
+    }
+}

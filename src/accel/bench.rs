@@ -129,7 +129,7 @@ pub fn bench_scene(path: &Path, opts: &BenchOptions, pool: &rayon::ThreadPool) -
         prims: prims.clone(),
         accel: reference,
         lights: Default::default(),
-        materials: vec![],
+        materials: Default::default(),
         textures: Default::default(),
         globals: scene.globals,
         cancel: Default::default(),

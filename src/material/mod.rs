@@ -19,9 +19,11 @@
 pub mod metals;
 mod normal_map;
 mod resolve;
+mod set;
 
 pub use normal_map::{bump_normal, normal_map_normal, tangent_frame};
 pub use resolve::{bsdf, bsdf_into};
+pub use set::MaterialSet;
 
 use crate::bsdf::MAX_LOBES;
 use crate::texture::{ColorParam, ScalarParam};

@@ -3,7 +3,7 @@
 //! weights multiplied in. Called once per shading point; no allocation.
 
 use super::normal_map::{BUMP_DELTA, bump_normal, normal_map_normal, tangent_frame};
-use super::{ConductorSpec, Material, MaterialKind, PhongParams, Shading};
+use super::{ConductorSpec, Material, MaterialKind, MaterialSet, Shading};
 use crate::bsdf::{Bsdf, ConductorFresnel, Lobe};
 use crate::math::Frame;
 use crate::primitives::{Primitives, SurfaceHit};
@@ -18,7 +18,7 @@ const MIN_ALPHA: f32 = 1e-3;
 /// an ambient term towards `wo` (black, or the back of a one-sided material).
 #[inline(always)]
 pub fn bsdf(
-    materials: &[Material],
+    materials: &MaterialSet,
     textures: &TextureSet,
     prims: &Primitives,
     s: &SurfaceHit,
@@ -33,7 +33,7 @@ pub fn bsdf(
 /// moving a new one out of every hit; false when the surface neither scatters nor has an ambient term.
 #[inline(always)]
 pub fn bsdf_into(
-    materials: &[Material],
+    materials: &MaterialSet,
     textures: &TextureSet,
     prims: &Primitives,
     s: &SurfaceHit,
@@ -43,8 +43,19 @@ pub fn bsdf_into(
 ) -> bool {
     let m = &materials[s.material as usize];
     let front = wo.dot(s.ng) >= 0.0;
-    let at = TexPoint { uv: s.uv, p: s.p };
+    let side = Side { front, two_sided };
     let (ng, mut ns) = if front { (s.ng, s.ns) } else { (-s.ng, -s.ns) };
+    let bsdf = out;
+    if let Some(albedo) = materials.lambert(s.material) {
+        // The common case (every wall of a Cornell box): one constant Lambertian lobe, classified when the scene
+        // was built; no texture lookups.
+        if ns.dot(wo) <= 0.0 {
+            ns = ng;
+        }
+        bsdf.reset(Frame::from_normal(ns), ng, wo);
+        return side.shades(m) && bsdf.set_lambert(albedo);
+    }
+    let at = TexPoint { uv: s.uv, p: s.p };
     let top = match &m.kind {
         MaterialKind::NormalMap { base, texture, strength, flip_green } => {
             let (t, b) = tangent_frame(s.ns, s.dpdu, s.dpdv, prims.mesh_tangent(s));
@@ -76,27 +87,9 @@ pub fn bsdf_into(
             m
         }
     };
-    let bsdf = out;
     bsdf.reset(Frame::from_normal(ns), ng, wo);
-    let side = Side { front, two_sided };
-    if let MaterialKind::Phong(p) = &top.kind
-        && let Some(albedo) = plain_lambert(p)
-    {
-        // The common case (every wall of a Cornell box): one constant Lambertian lobe, no texture lookups.
-        return side.shades(top) && bsdf.set_lambert(albedo);
-    }
     push_lobes(materials, textures, top, &at, side, 1.0, bsdf);
     bsdf.prepare()
-}
-
-/// The albedo of a Phong-family material that is only a constant Lambertian lobe.
-#[inline(always)]
-fn plain_lambert(p: &PhongParams) -> Option<glam::Vec3> {
-    if p.ambient.is_zero() && p.specular.is_zero() && p.reflective.is_zero() && p.transparent.is_zero() {
-        p.diffuse.constant()
-    } else {
-        None
-    }
 }
 
 #[derive(Clone, Copy)]

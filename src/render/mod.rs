@@ -57,7 +57,7 @@ pub fn build_scene_system(world: &mut World, res: &mut Resources) -> Result<()> 
         prims,
         accel,
         lights: LightSet::default(),
-        materials: res.materials.clone(),
+        materials: crate::material::MaterialSet::new(res.materials.clone()),
         textures: res.textures.clone(),
         globals: res.globals,
         cancel: res.cancel.clone(),
