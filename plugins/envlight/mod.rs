@@ -88,7 +88,7 @@ impl PixelIntegrator for Envlight {
         true
     }
 
-    #[inline]
+    #[inline(always)]
     fn radiance_from(
         &self,
         scene: &Scene,
@@ -96,7 +96,12 @@ impl PixelIntegrator for Envlight {
         hit: Option<crate::primitives::Hit>,
         sampler: &mut crate::sampling::Sampler,
     ) -> glam::Vec3 {
-        self.tracer.as_ref().map_or(glam::Vec3::ZERO, |t| t.radiance_from(scene, ray, hit, sampler))
+        // A `match`, not `map_or`: its closure would stay a call of its own, where this one is inlined into the
+        // tile loop (`PerPixel`), so that the path's set-up is hoisted out of the samples' loop.
+        match &self.tracer {
+            Some(t) => t.radiance_from(scene, ray, hit, sampler),
+            None => glam::Vec3::ZERO,
+        }
     }
 
     fn batched_2d_dims(&self) -> Vec<u32> {

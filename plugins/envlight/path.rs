@@ -55,6 +55,7 @@ impl PixelIntegrator for PathTracer {
         true
     }
 
+    #[inline(always)]
     fn radiance_from(&self, scene: &Scene, ray: Ray, hit: Option<Hit>, sampler: &mut Sampler) -> Vec3 {
         self.path(scene, ray, Some(hit), sampler)
     }
