@@ -176,7 +176,11 @@ impl<T: PixelIntegrator> PerPixel<T> {
         // pixel's sampler, the pixel position from the batch where there is one).
         let camera_ray = |p: &mut PixelSamples, index: u64, lane: usize, batch: &SobolBatch| {
             let i = (index - p.first) as u32;
-            p.sampler.start(index as u32);
+            if batch.is_empty() {
+                p.sampler.start(index as u32);
+            } else {
+                p.sampler.start_reversed(index as u32, batch.index_rev(lane));
+            }
             let u_pixel = match pattern {
                 Some(pat) => {
                     p.sampler.skip_2d();
@@ -237,7 +241,11 @@ impl<T: PixelIntegrator> PerPixel<T> {
                     let p = &mut row[k];
                     let l = if packets {
                         // The camera dimensions are drawn: the path goes on from the integrator's first.
-                        p.sampler.start(index as u32);
+                        if batch.is_empty() {
+                            p.sampler.start(index as u32);
+                        } else {
+                            p.sampler.start_reversed(index as u32, batch.index_rev(j));
+                        }
                         p.sampler.skip_2d();
                         p.sampler.skip_2d();
                         batch.load(j, &mut p.sampler);

@@ -76,6 +76,12 @@ impl SobolBatch {
         sobol_owen_2d_batch(&self.index_rev, &self.keys[..self.n], &mut self.points[..self.n]);
     }
 
+    /// Lane `lane`'s sample index bit-reversed, as [`Sampler::start_reversed`] takes it (set by `set_lanes`).
+    #[inline(always)]
+    pub fn index_rev(&self, lane: usize) -> u32 {
+        self.index_rev[lane]
+    }
+
     /// Lane `lane`'s point of the batch's `k`-th dimension.
     #[inline(always)]
     pub fn point(&self, lane: usize, k: usize) -> Vec2 {
