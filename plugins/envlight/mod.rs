@@ -97,7 +97,7 @@ impl PixelIntegrator for Envlight {
         sampler: &mut crate::sampling::Sampler,
     ) -> glam::Vec3 {
         // A `match`, not `map_or`: its closure would stay a call of its own, where this one is inlined into the
-        // tile loop (`PerPixel`), so that the path's set-up is hoisted out of the samples' loop.
+        // tile loop (`PerPixel`), so a camera sample's path costs no call and no call set-up.
         match &self.tracer {
             Some(t) => t.radiance_from(scene, ray, hit, sampler),
             None => glam::Vec3::ZERO,

@@ -2,7 +2,7 @@
 //! `[Material]`) and, classified once when the scene is built, each material's shortcut at a hit. Today one
 //! shortcut: a material that is one constant Lambertian lobe (every wall of a Cornell box) is resolved without
 //! looking at its terms, where classifying it at every path vertex had cost four parameter tests and a match
-//! (about 1% of the Cornell box's instructions).
+//! (1.8% of the Cornell box's instructions).
 
 use super::{Material, MaterialKind, PhongParams};
 use glam::Vec3;
