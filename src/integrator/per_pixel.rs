@@ -60,6 +60,17 @@ pub fn lens_sample_index(index: u64, position: u32, count: u32, key: u32) -> u64
     index - position as u64 + crate::sampling::permute(position, count, key ^ 0x6c65_6e73) as u64
 }
 
+/// Begin sample `index` on `sampler`, lane `lane` of its chunk: with the Sobol batch's bit-reversed index where the
+/// chunk has a batch (the same numbers as [`Sampler::start`], without reversing the index again).
+#[inline(always)]
+fn start_sample(sampler: &mut Sampler, index: u64, lane: usize, batch: &SobolBatch) {
+    if batch.is_empty() {
+        sampler.start(index as u32);
+    } else {
+        sampler.start_reversed(index as u32, batch.index_rev(lane));
+    }
+}
+
 /// Adapts a per-ray estimator to the pass-based [`Integrator`] interface.
 pub struct PerPixel<T> {
     estimator: T,
@@ -176,11 +187,7 @@ impl<T: PixelIntegrator> PerPixel<T> {
         // pixel's sampler, the pixel position from the batch where there is one).
         let camera_ray = |p: &mut PixelSamples, index: u64, lane: usize, batch: &SobolBatch| {
             let i = (index - p.first) as u32;
-            if batch.is_empty() {
-                p.sampler.start(index as u32);
-            } else {
-                p.sampler.start_reversed(index as u32, batch.index_rev(lane));
-            }
+            start_sample(&mut p.sampler, index, lane, batch);
             let u_pixel = match pattern {
                 Some(pat) => {
                     p.sampler.skip_2d();
@@ -241,11 +248,7 @@ impl<T: PixelIntegrator> PerPixel<T> {
                     let p = &mut row[k];
                     let l = if packets {
                         // The camera dimensions are drawn: the path goes on from the integrator's first.
-                        if batch.is_empty() {
-                            p.sampler.start(index as u32);
-                        } else {
-                            p.sampler.start_reversed(index as u32, batch.index_rev(j));
-                        }
+                        start_sample(&mut p.sampler, index, j, &batch);
                         p.sampler.skip_2d();
                         p.sampler.skip_2d();
                         batch.load(j, &mut p.sampler);

@@ -49,10 +49,7 @@ pub fn bsdf_into(
     if let Some(albedo) = materials.lambert(s.material) {
         // The common case (every wall of a Cornell box): one constant Lambertian lobe, classified when the scene
         // was built; no texture lookups.
-        if ns.dot(wo) <= 0.0 {
-            ns = ng;
-        }
-        bsdf.reset(Frame::from_normal(ns), ng, wo);
+        bsdf.reset(Frame::from_normal(facing(ns, ng, wo)), ng, wo);
         return side.shades(m) && bsdf.set_lambert(albedo);
     }
     let at = TexPoint { uv: s.uv, p: s.p };
@@ -74,22 +71,24 @@ pub fn bsdf_into(
             let hv = textures
                 .scalar(height, &TexPoint { uv: s.uv + Vec2::new(0.0, BUMP_DELTA), p: s.p + BUMP_DELTA * s.dpdv });
             let n = bump_normal(s.ns, s.dpdu, s.dpdv, (hu - h0) / BUMP_DELTA, (hv - h0) / BUMP_DELTA);
-            ns = if front { n } else { -n };
-            if ns.dot(wo) <= 0.0 {
-                ns = ng;
-            }
+            ns = facing(if front { n } else { -n }, ng, wo);
             &materials[*base as usize]
         }
         _ => {
-            if ns.dot(wo) <= 0.0 {
-                ns = ng;
-            }
+            ns = facing(ns, ng, wo);
             m
         }
     };
     bsdf.reset(Frame::from_normal(ns), ng, wo);
     push_lobes(materials, textures, top, &at, side, 1.0, bsdf);
     bsdf.prepare()
+}
+
+/// The shading normal `ns`, or the geometric `ng` where `ns` turns away from `wo` (a shading frame must face the
+/// viewer).
+#[inline(always)]
+fn facing(ns: Vec3A, ng: Vec3A, wo: Vec3A) -> Vec3A {
+    if ns.dot(wo) <= 0.0 { ng } else { ns }
 }
 
 #[derive(Clone, Copy)]
