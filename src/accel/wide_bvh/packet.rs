@@ -123,22 +123,41 @@ impl<'a> Packet<'a> {
     #[inline(always)]
     fn triangle(&mut self, tri: &TriSoa, id: u32, mask: u32) {
         let v = [tri.xs.to_array(), tri.ys.to_array(), tri.zs.to_array()];
-        let mut hit = [false; PACKET];
+        // Vertex `j`'s coordinate `a` less lane `l`'s origin, and its sheared row `r`.
+        let d = |a: usize, j: usize, l: usize| v[a][j] - self.o[a][l];
+        let row = |r: usize, j: usize, l: usize| {
+            d(0, j, l) * self.rows[r][0][l] + d(1, j, l) * self.rows[r][1][l] + d(2, j, l) * self.rows[r][2][l]
+        };
+        // First the edge functions of every lane: most triangles a packet meets in a leaf lie beside all of its
+        // rays (a pixel's camera rays), and then the rest of the test is not computed.
+        let (mut xs, mut ys) = ([[0.0f32; PACKET]; 3], [[0.0f32; PACKET]; 3]);
+        let mut uvw = [[0.0f32; PACKET]; 3];
         let mut zero = [false; PACKET];
-        let (mut tt, mut bb1, mut bb2) = ([0.0f32; PACKET], [0.0f32; PACKET], [0.0f32; PACKET]);
+        let mut mixed = [false; PACKET];
         for l in 0..PACKET {
-            let d = |a: usize, j: usize| v[a][j] - self.o[a][l];
-            let row = |r: usize, j: usize| {
-                d(0, j) * self.rows[r][0][l] + d(1, j) * self.rows[r][1][l] + d(2, j) * self.rows[r][2][l]
-            };
-            let (x, y) = ([row(0, 0), row(0, 1), row(0, 2)], [row(1, 0), row(1, 1), row(1, 2)]);
+            let (x, y) = ([row(0, 0, l), row(0, 1, l), row(0, 2, l)], [row(1, 0, l), row(1, 1, l), row(1, 2, l)]);
             let u = x[2] * y[1] - y[2] * x[1];
             let w1 = x[0] * y[2] - y[0] * x[2];
             let w = x[1] * y[0] - y[1] * x[0];
             zero[l] = u == 0.0 || w1 == 0.0 || w == 0.0;
-            let mixed = (u < 0.0 || w1 < 0.0 || w < 0.0) && (u > 0.0 || w1 > 0.0 || w > 0.0);
+            mixed[l] = (u < 0.0 || w1 < 0.0 || w < 0.0) && (u > 0.0 || w1 > 0.0 || w > 0.0);
+            for j in 0..3 {
+                (xs[j][l], ys[j][l]) = (x[j], y[j]);
+            }
+            (uvw[0][l], uvw[1][l], uvw[2][l]) = (u, w1, w);
+        }
+        let leaving = lanes_where(|l| self.leaves[l] == id);
+        let mask = mask & !leaving;
+        if lanes_where(|l| !mixed[l] || zero[l]) & mask == 0 {
+            return;
+        }
+        let mut hit = [false; PACKET];
+        let (mut tt, mut bb1, mut bb2) = ([0.0f32; PACKET], [0.0f32; PACKET], [0.0f32; PACKET]);
+        for l in 0..PACKET {
+            let (x, y) = ([xs[0][l], xs[1][l], xs[2][l]], [ys[0][l], ys[1][l], ys[2][l]]);
+            let (u, w1, w) = (uvw[0][l], uvw[1][l], uvw[2][l]);
             let det = u + w1 + w;
-            let z = [row(2, 0), row(2, 1), row(2, 2)];
+            let z = [row(2, 0, l), row(2, 1, l), row(2, 2, l)];
             let ts = u * z[0] + w1 * z[1] + w * z[2];
             let end = self.end[l];
             let in_range = if det > 0.0 { !(ts <= 0.0 || ts >= end * det) } else { !(ts >= 0.0 || ts <= end * det) };
@@ -158,13 +177,11 @@ impl<'a> Packet<'a> {
             // As the scalar kernel decides (`t <= delta_t` rejects; a NaN distance is not rejected there either).
             #[allow(clippy::neg_cmp_op_on_partial_ord)]
             let far_enough = !(t <= delta_t);
-            hit[l] = !mixed && det != 0.0 && in_range && far_enough;
+            hit[l] = !mixed[l] && det != 0.0 && in_range && far_enough;
             tt[l] = t;
             bb1[l] = w1 * inv;
             bb2[l] = w * inv;
         }
-        let leaving = lanes_where(|l| self.leaves[l] == id);
-        let mask = mask & !leaving;
         let zero = lanes_where(|l| zero[l]) & mask;
         let mut hits = lanes_where(|l| hit[l]) & mask & !zero;
         while hits != 0 {
