@@ -3,7 +3,7 @@
 
 use glam::Vec3A;
 use prism::geometry::{Ray, TriPacket, WatertightRay, gamma, intersect_sphere, offset_ray_origin, spawn_ray};
-use prism::math::{Frame, fresnel_dielectric, refract};
+use prism::math::{Frame, fresnel_dielectric, lane_mask16, refract};
 use prism::mesh::MeshData;
 use prism::primitives::sphere_point_error;
 use prism::sampling::{Rng, warp};
@@ -535,4 +535,16 @@ fn transform_operations_compose_like_matrix_products() {
     let r = compose(&[Rotate { axis: [1.0, 0.0, 0.0], degrees: 90.0 }], "t").unwrap();
     assert!((r.transform_vector3(Vec3::Z) - Vec3::new(0.0, -1.0, 0.0)).length() < 1e-6);
     assert!(compose(&[UniformScale(0.0)], "t").is_err());
+}
+
+/// The ray packets' lane mask, gathered from sixteen 0/1 bytes by two multiplications (`lane_mask16`), is the plain
+/// bit-by-bit mask for every one of the 65,536 patterns: the partial products never share a bit, so nothing carries.
+#[test]
+fn the_multiplied_lane_mask_equals_the_bit_by_bit_mask_for_every_pattern() {
+    for pattern in 0u32..1 << 16 {
+        let bit = |l: usize| pattern >> l & 1 == 1;
+        let plain = (0..16).fold(0u32, |m, l| m | (bit(l) as u32) << l);
+        assert_eq!(plain, pattern);
+        assert_eq!(lane_mask16(bit), plain, "pattern {pattern:#06x}");
+    }
 }

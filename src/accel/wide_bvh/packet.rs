@@ -19,6 +19,7 @@ use super::boxes::clamped_recip;
 use super::leaf::{NO_SLAB, leaf_axis, leaf_packets, moving_away};
 use super::{EMPTY, LEAF_BIT, STACK, WIDTH, WideBvh};
 use crate::geometry::{Ray, TriSoa, WatertightRay, gamma};
+use crate::math::lane_mask16;
 use crate::primitives::{Hit, Primitives};
 use multiversion::multiversion;
 
@@ -41,17 +42,10 @@ struct Packet<'a> {
     b2: Lanes,
 }
 
-/// Bits of the lanes where `f` holds. The lanes' answers as bytes of 0 or 1, eight to a `u64`, gathered into eight
-/// bits by one multiplication each (byte `i` times `2^(7j + 7)` lands its bit at `56 + i` for `j = 7 - i`, and no
-/// two products overlap, so nothing carries): LLVM compiled the plain shift-and-or fold to about thirty shuffles and
-/// extractions per mask.
+/// Bits of the lanes where `f` holds (see [`lane_mask16`]).
 #[inline(always)]
 fn lanes_where(f: impl Fn(usize) -> bool) -> u32 {
-    const GATHER: u64 = 0x0102_0408_1020_4080;
-    let bytes: [u8; PACKET] = std::array::from_fn(|l| f(l) as u8);
-    let (lo, hi) = bytes.split_at(8);
-    let eight = |b: &[u8]| (u64::from_le_bytes(b.try_into().unwrap_or([0; 8])).wrapping_mul(GATHER) >> 56) as u32;
-    eight(lo) | eight(hi) << 8
+    lane_mask16(f)
 }
 
 impl<'a> Packet<'a> {
