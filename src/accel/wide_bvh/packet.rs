@@ -42,12 +42,6 @@ struct Packet<'a> {
     b2: Lanes,
 }
 
-/// Bits of the lanes where `f` holds (see [`lane_mask16`]).
-#[inline(always)]
-fn lanes_where(f: impl Fn(usize) -> bool) -> u32 {
-    lane_mask16(f)
-}
-
 impl<'a> Packet<'a> {
     /// The packet of `rays` (1 to [`PACKET`]; the lanes past them hold zeros and are never active).
     #[inline(always)]
@@ -104,7 +98,7 @@ impl<'a> Packet<'a> {
             tn[l] = tnear;
             ok[l] = tnear <= tfar;
         }
-        let hit = lanes_where(|l| ok[l]) & mask;
+        let hit = lane_mask16(|l| ok[l]) & mask;
         let mut first = f32::INFINITY;
         for (l, &t) in tn.iter().enumerate() {
             let t = if hit & (1 << l) != 0 { t } else { f32::INFINITY };
@@ -140,9 +134,9 @@ impl<'a> Packet<'a> {
             }
             (uvw[0][l], uvw[1][l], uvw[2][l]) = (u, w1, w);
         }
-        let leaving = lanes_where(|l| self.leaves[l] == id);
+        let leaving = lane_mask16(|l| self.leaves[l] == id);
         let mask = mask & !leaving;
-        if lanes_where(|l| !mixed[l] || zero[l]) & mask == 0 {
+        if lane_mask16(|l| !mixed[l] || zero[l]) & mask == 0 {
             return;
         }
         let mut hit = [false; PACKET];
@@ -176,8 +170,8 @@ impl<'a> Packet<'a> {
             bb1[l] = w1 * inv;
             bb2[l] = w * inv;
         }
-        let zero = lanes_where(|l| zero[l]) & mask;
-        let mut hits = lanes_where(|l| hit[l]) & mask & !zero;
+        let zero = lane_mask16(|l| zero[l]) & mask;
+        let mut hits = lane_mask16(|l| hit[l]) & mask & !zero;
         while hits != 0 {
             let l = hits.trailing_zeros() as usize;
             hits &= hits - 1;
@@ -202,7 +196,7 @@ impl<'a> Packet<'a> {
         if axis != NO_SLAB {
             let slab = bvh.slabs[packets.start];
             let rays = self.rays;
-            mask &= !lanes_where(|l| l < rays.len() && moving_away(&rays[l], axis, slab));
+            mask &= !lane_mask16(|l| l < rays.len() && moving_away(&rays[l], axis, slab));
             if mask == 0 {
                 return;
             }
@@ -292,7 +286,7 @@ pub(super) fn intersect_packet(bvh: &WideBvh, prims: &Primitives, rays: &[Ray], 
             }
             sp -= 1;
             let (c, m, t) = stack[sp];
-            let m = m & lanes_where(|l| t <= p.end[l]);
+            let m = m & lane_mask16(|l| t <= p.end[l]);
             if m != 0 {
                 (cur, mask) = (c, m);
                 break;
