@@ -16,8 +16,15 @@
 //! shear-based kernel guarantee), about as cheap per lane as Moeller-Trumbore because the ray's part, `o x d`, is
 //! computed once per block. Its columns show whether a wavefront core could keep watertight hits.
 //!
+//! A third column, the block query, is the Pluecker kernel with conservative rounding bounds (`robust_block.rs`): its
+//! sure answers are hits, an unsure ray goes to the tree alone, so it can stand in for the tree; bounce rays name
+//! the triangle they leave, as the renderer's do.
+//!
 //! The kernel is not a drop-in for Prism's traversal: it needs rays sixteen at a time, which is the integrator
 //! redesign the README names, and brute force only pays on scenes this small.
+
+#[path = "wide_kernel/robust_block.rs"]
+mod robust_block;
 
 use multiversion::multiversion;
 use prism::accel::ray_sets::{camera_rays, secondary_rays};
@@ -189,14 +196,19 @@ fn main() {
         .map(|[a, b, c]| Tri { v0: (*a).into(), e1: (*b - *a).into(), e2: (*c - *a).into() })
         .collect();
     let plus: Vec<Plu> = prims.tris.iter().map(|[a, b, c]| plu((*a).into(), (*b).into(), (*c).into())).collect();
+    let block_set = robust_block::PlueckerSet::new(&prims.tris).expect("the Cornell box's 36 triangles");
     let camera = camera_rays(scene, 256, 256);
     let (bounce, _) = secondary_rays(scene, &camera, 1);
     println!("wide kernel vs Prism's BVH, {} triangles, one thread, best of 15 interleaved rounds", tris.len());
     println!(
-        "| rays | Prism BVH Mrays/s | 16 lanes dispatched | AVX2 | baseline SSE2 | dispatched / BVH | differing rays | Pluecker 16 lanes | Pluecker / BVH | Pluecker differing |"
+        "| rays | Prism BVH Mrays/s | 16 lanes dispatched | AVX2 | baseline SSE2 | dispatched / BVH | differing rays | Pluecker 16 lanes | Pluecker / BVH | Pluecker differing | block query | block / BVH | block differing |"
     );
-    println!("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
-    for (name, rays) in [("camera", &camera), ("bounce", &bounce)] {
+    println!("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
+    // The bounce rays as the renderer spawns them, naming the triangle they leave (`Ray::leaves`), for the block
+    // query, which leaves a ray that may re-hit its origin's surface to the one-ray query.
+    let starts: Vec<u32> = camera.iter().filter_map(|r| scene.intersect(r)).map(|h| h.prim).collect();
+    let bounce_leaving: Vec<Ray> = bounce.iter().zip(&starts).map(|(r, &p)| r.leaving(p)).collect();
+    for (name, rays, block_rays) in [("camera", &camera, &camera), ("bounce", &bounce, &bounce_leaving)] {
         let blocks = blocks(rays);
         let n = blocks.len() * LANES;
         let rays = &rays[..n];
@@ -204,7 +216,8 @@ fn main() {
         let prism_hits: Vec<u32> =
             rays.iter().map(|r| scene.accel.intersect(prims, r).map_or(u32::MAX, |h| h.prim)).collect();
         let mut out_p = vec![0u32; n];
-        let mut times = [f64::INFINITY; 5];
+        let mut out_b = vec![None; n];
+        let mut times = [f64::INFINITY; 6];
         for _ in 0..15 {
             times[0] = times[0].min(seconds(|| {
                 for r in rays {
@@ -215,21 +228,27 @@ fn main() {
             times[2] = times[2].min(seconds(|| closest_avx2(&tris, black_box(&blocks), &mut out)));
             times[3] = times[3].min(seconds(|| closest_baseline(&tris, black_box(&blocks), &mut out)));
             times[4] = times[4].min(seconds(|| pluecker_dispatched(&plus, black_box(&blocks), &mut out_p)));
+            times[5] = times[5].min(seconds(|| {
+                robust_block::intersect_block(&block_set, scene, black_box(&block_rays[..n]), &mut out_b)
+            }));
         }
         closest_dispatched(&tris, &blocks, &mut out);
         let differ = out.iter().zip(&prism_hits).filter(|(a, b)| a != b).count();
         pluecker_dispatched(&plus, &blocks, &mut out_p);
         let differ_p = out_p.iter().zip(&prism_hits).filter(|(a, b)| a != b).count();
+        let differ_b = out_b.iter().zip(&prism_hits).filter(|(a, b)| a.map_or(u32::MAX, |h| h.prim) != **b).count();
         let m = times.map(|t| n as f64 / t / 1e6);
         println!(
-            "| {name} ({n}) | {:.1} | {:.1} | {:.1} | {:.1} | {:.2} | {differ} | {:.1} | {:.2} | {differ_p} |",
+            "| {name} ({n}) | {:.1} | {:.1} | {:.1} | {:.1} | {:.2} | {differ} | {:.1} | {:.2} | {differ_p} | {:.1} | {:.2} | {differ_b} |",
             m[0],
             m[1],
             m[2],
             m[3],
             m[1] / m[0],
             m[4],
-            m[4] / m[0]
+            m[4] / m[0],
+            m[5],
+            m[5] / m[0]
         );
     }
 }
