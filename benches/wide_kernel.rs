@@ -236,7 +236,24 @@ fn main() {
         let differ = out.iter().zip(&prism_hits).filter(|(a, b)| a != b).count();
         pluecker_dispatched(&plus, &blocks, &mut out_p);
         let differ_p = out_p.iter().zip(&prism_hits).filter(|(a, b)| a != b).count();
-        let differ_b = out_b.iter().zip(&prism_hits).filter(|(a, b)| a.map_or(u32::MAX, |h| h.prim) != **b).count();
+        // The block query against the tree on the same rays (naming the triangle they leave): other primitives, and
+        // of those, hits at another distance (more than 1e-5 relative; the rest are ties, such as a ray through the
+        // edge two triangles share).
+        let tree_b: Vec<_> = block_rays[..n].iter().map(|r| scene.accel.intersect(prims, r)).collect();
+        let other: Vec<_> = out_b.iter().zip(&tree_b).filter(|(a, b)| a.map(|h| h.prim) != b.map(|h| h.prim)).collect();
+        let far = other
+            .iter()
+            .filter(|(a, b)| match (a, b) {
+                (Some(a), Some(b)) => (a.t - b.t).abs() > 1e-5 * b.t.abs().max(1.0),
+                _ => true,
+            })
+            .count();
+        let differ_b = format!("{} ({far} at another distance)", other.len());
+        let unsure: usize = block_rays[..n]
+            .chunks(robust_block::BLOCK)
+            .map(|c| block_set.closest(c).unsure[..c.len()].iter().filter(|&&u| u).count())
+            .sum();
+        let differ_b = format!("{differ_b}; {:.2}% to the tree", 100.0 * unsure as f64 / n as f64);
         let m = times.map(|t| n as f64 / t / 1e6);
         println!(
             "| {name} ({n}) | {:.1} | {:.1} | {:.1} | {:.1} | {:.2} | {differ} | {:.1} | {:.2} | {differ_p} | {:.1} | {:.2} | {differ_b} |",

@@ -1,7 +1,8 @@
 //! The `pluecker` kernel of `wide_kernel.rs` made safe to answer for the tree: every number carries a conservative
 //! rounding bound, a triangle is a candidate if a ray is inside it within that bound and its distance interval
-//! `[lo, hi]` reaches `(0, tmax)`, and a ray whose closest candidate's interval overlaps another's, that grazes a
-//! candidate's plane, or whose candidate may be the surface it starts on (an interval reaching 0) is marked unsure,
+//! `[lo, hi]` reaches `(0, tmax)`, and a ray whose closest candidate's interval overlaps another's, that passes
+//! within the bound of its closest candidate's edge, that grazes a candidate's plane, or whose candidate may be the
+//! surface it starts on (an interval reaching 0) is marked unsure,
 //! for the one-ray query to trace. A sure ray's hit is the kernel's own (distance and barycentric weights from the
 //! side numbers). An experiment for the README's "The width, tried", not a Prism accelerator: the numbers and the
 //! path tracer trial that used it are in the performance log (eighteenth session).
@@ -172,6 +173,8 @@ struct Lane {
     /// The ray is inside the triangle within the side numbers' rounding bound, not along its plane, and its distance
     /// interval `[lo, hi]` reaches `(0, tmax)`.
     candidate: bool,
+    /// The ray passes within the rounding bound of one of the triangle's edges.
+    on_edge: bool,
     lo: f32,
     hi: f32,
     /// Inside the triangle, but too parallel to its plane for a sure distance.
@@ -205,6 +208,8 @@ fn test(t: &Tri, b: &RayBlock, k: usize, id: u32) -> Lane {
     let max = |a: f32, b: f32| if a > b { a } else { b };
     let (lo_side, hi_side) = (min(min(u, v), w), max(max(u, v), w));
     let inside = ((lo_side >= -margin) | (hi_side <= margin)) & (id != b.leaves[k]);
+    // Within the bound of an edge the ray may pass either side of it: only the one-ray query can tell.
+    let on_edge = inside & !((lo_side > margin) | (hi_side < -margin));
     let den = dot(t.n, d);
     let num = t.nv0 - dot(t.n, o);
     // The distance with the sign of `den` moved to `num`.
@@ -220,7 +225,7 @@ fn test(t: &Tri, b: &RayBlock, k: usize, id: u32) -> Lane {
     #[allow(clippy::neg_cmp_op_on_partial_ord)]
     let grazing = inside & !(den > den_err);
     let candidate = inside & !grazing & (hi > 0.0) & (lo < b.tmax[k]);
-    Lane { candidate, lo, hi, grazing, t: tp, s0: u, s2: w, sum: u + v + w }
+    Lane { candidate, on_edge, lo, hi, grazing, t: tp, s0: u, s2: w, sum: u + v + w }
 }
 
 #[inline(always)]
@@ -228,6 +233,8 @@ fn closest(tris: &[Tri], b: &RayBlock, out: &mut BlockHits) {
     let inf = [f32::INFINITY; BLOCK];
     let (mut lo1, mut hi1, mut lo2) = (inf, inf, inf);
     let mut best = [u32::MAX; BLOCK];
+    // Whether the best candidate so far is one the ray passes on an edge of (0 / 1 words, as `unsure`).
+    let mut edge = [0u32; BLOCK];
     let (mut t_best, mut s0, mut s2, mut sum) = ([0.0f32; BLOCK], [0.0f32; BLOCK], [0.0f32; BLOCK], [1.0f32; BLOCK]);
     // Booleans as 0 / 1 words, which stay in a vector register (a `bool` array is packed to bytes per step).
     let mut unsure = [0u32; BLOCK];
@@ -250,6 +257,7 @@ fn closest(tris: &[Tri], b: &RayBlock, out: &mut BlockHits) {
             lo1[k] = if first { c.lo } else { lo1[k] };
             hi1[k] = if first { c.hi } else { hi1[k] };
             best[k] = if first { id as u32 } else { best[k] };
+            edge[k] = if first { c.on_edge as u32 } else { edge[k] };
             t_best[k] = if first { c.t } else { t_best[k] };
             s0[k] = if first { c.s0 } else { s0[k] };
             s2[k] = if first { c.s2 } else { s2[k] };
@@ -259,7 +267,7 @@ fn closest(tris: &[Tri], b: &RayBlock, out: &mut BlockHits) {
     for k in 0..BLOCK {
         // Another candidate may be as close as the best, or the best as far as `tmax`: the one-ray query decides.
         let found = best[k] != u32::MAX;
-        out.unsure[k] = (unsure[k] != 0) | (lo2[k] < hi1[k]) | (found & (hi1[k] >= b.tmax[k]));
+        out.unsure[k] = (unsure[k] != 0) | (lo2[k] < hi1[k]) | (found & (hi1[k] >= b.tmax[k])) | (edge[k] != 0);
         out.prim[k] = best[k];
         out.t[k] = t_best[k];
         let inv = 1.0 / sum[k];
