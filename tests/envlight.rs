@@ -279,6 +279,51 @@ fn a_closed_emitting_diffuse_enclosure_reaches_le_over_one_minus_rho() {
     assert!((m - 2.0).abs() < 0.02, "mean {m}, expected Le / (1 - rho) = 2");
 }
 
+/// Russian roulette only trades time for variance: with any start and threshold, the enclosure above (albedo 0.8,
+/// so paths of many bounces matter: Le / (1 - rho) = 5) renders its exact radiance. Each rule's mean is judged
+/// against its own standard error over the pixels; a rule that forgot to divide a survivor's throughput by its
+/// survival probability would lose a fifth of the light or more.
+#[test]
+fn every_roulette_rule_keeps_the_enclosure_at_le_over_one_minus_rho() {
+    for (rr_depth, threshold) in [(1, 0.5), (1, 1.0), (3, 0.25), (5, 1.0), (1, 4.0)] {
+        let scene = format!(
+            "(camera: (size: (16, 16), eye: (0, 0, 0.5), target: (0, 0, 0)),
+            render: (integrator: envlight(rr_depth: {rr_depth}, rr_threshold: {threshold}), sampler: independent),
+            materials: {{\"wall\": Lambert(albedo: (0.8, 0.8, 0.8))}},
+            entities: [(shape: Sphere(radius: 2), material: \"wall\",
+                        light: Area(radiance: (1, 1, 1), two_sided: true))])"
+        );
+        let n = 64u32;
+        let img = render_ron(&scene, spp(n));
+        let values: Vec<f64> = img.pixels.iter().map(|p| p.x as f64).collect();
+        let mean = values.iter().sum::<f64>() / values.len() as f64;
+        let var = values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (values.len() - 1) as f64;
+        let se = (var / values.len() as f64).sqrt();
+        assert!(
+            (mean - 5.0).abs() < 4.0 * se + 0.01,
+            "rr_depth {rr_depth}, rr_threshold {threshold}: mean {mean} (exact 5, standard error {se})"
+        );
+    }
+}
+
+/// Every path ends, even where nothing absorbs: inside a closed white (albedo 1) sphere with unlimited depth a
+/// path's throughput stays 1, so roulette by a threshold alone would never stop it; survival is capped at 0.95
+/// from segment 64 on. The render must finish (a watchdog fails the test after two minutes instead of hanging);
+/// there is no light, so the image is black.
+#[test]
+fn paths_end_in_a_lossless_enclosure_with_unlimited_depth() {
+    let scene = "(camera: (size: (8, 8), eye: (0, 0, 0.5), target: (0, 0, 0)),
+        render: (integrator: envlight(max_depth: -1)),
+        materials: {\"wall\": Lambert(albedo: (1, 1, 1))},
+        entities: [(shape: Sphere(radius: 2), material: \"wall\")])";
+    let (tx, rx) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        let _ = tx.send(render_ron(scene, spp(16)));
+    });
+    let img = rx.recv_timeout(std::time::Duration::from_secs(120)).expect("the render did not finish: paths never end");
+    assert!(img.pixels.iter().all(|p| *p == Vec3::ZERO));
+}
+
 #[test]
 fn glass_and_mirror_under_a_uniform_sky_conserve_energy() {
     let scene = "(camera: (eye: (0, 0, 4), fov: 35, size: (24, 24)),
@@ -330,10 +375,11 @@ fn bad_environment_light_settings_are_rejected() {
 
 /// Russian roulette and refraction: radiance crossing into glass is scaled by 1/eta^2 and restored on the way out,
 /// so a path inside a glass sphere is not a dimmer path. A clear sphere (ior 1.5) in a white furnace (uniform sky
-/// of radiance 1) is exactly 1 everywhere; with roulette from the first vertex, survival must undo the 1/eta^2
-/// (Mitsuba's rule, q = min(max(beta) eta^2, 0.95)). Then every roulette survives with 0.95 and a path with n of
-/// them has per-sample variance (1/0.95)^n - 1 (< 0.36 for n <= 6); judging by beta alone would survive with
-/// 0.44 inside the glass and give (1/0.95)(1/0.44) - 1 = 1.37 or more for every path that enters it.
+/// of radiance 1) is exactly 1 everywhere; with roulette from the first vertex, survival must undo the 1/eta^2.
+/// Then a lossless path through the glass keeps a throughput of about 1 and survives every roulette (threshold
+/// 0.5; Mitsuba's rule, survival capped at 0.95, would give a path with n roulettes a per-sample variance of
+/// (1/0.95)^n - 1, < 0.36 for n <= 6); judging by beta alone would survive with 0.44 / 0.5 inside the glass and
+/// give 1/0.88 - 1 = 0.13 or more per roulette for every path that enters it, and far more with threshold 1.
 #[test]
 fn roulette_inside_glass_undoes_the_radiance_scaling_of_refraction() {
     let scene = "(camera: (eye: (0, 0, 4), target: (0, 0, 0), up: (0, 1, 0), fov: 40, size: (64, 64)),

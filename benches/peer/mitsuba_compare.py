@@ -20,6 +20,9 @@ with a message):
     with the `ldsampler` (low-discrepancy; only 4^k spp) and the `independent` sampler. Each (sampler, spp) gets one
     untimed warm-up render (JIT compilation); a timed render is `mi.render(scene, spp=N, seed=s)` plus the
     conversion of the image to numpy (as ../shared/refs/curves2.md measured).
+  - With `--peer-rr-depth 1,2,3`: Mitsuba `ldsampler` also with its path tracer's `rr_depth` at each of these
+    (peers `mitsuba-ldsampler-rrD`), so that a ratio can be read against the peer at its best Russian roulette
+    (Prism's `envlight` plays it from the first bounce by default, Mitsuba from the fifth).
   - Prism: `prism render SCENE --spp N --threads 2 --seed s --checkpoint 0 -o x.exr` plus the config's arguments
     (default two configs: `--integrator "envlight(max_depth: D)"`, D the reference's, and the same with
     `--adaptive`); time = the render time Prism prints
@@ -236,7 +239,7 @@ def mitsuba_dict(name, mi):
 class Mitsuba:
     """One scene loaded once per sampler; renders timed as curves2.md describes."""
 
-    def __init__(self, name, threads, samplers=("ldsampler", "independent")):
+    def __init__(self, name, threads, samplers=("ldsampler", "independent"), rr_depths=()):
         import drjit as dr
         import mitsuba as mi
         import numpy as np
@@ -248,6 +251,11 @@ class Mitsuba:
             d = mitsuba_dict(name, mi)
             d["sensor"]["sampler"] = {"type": sampler, "sample_count": 4}
             self.scenes[sampler] = mi.load_dict(d)
+        for rr in rr_depths:  # the path tracer's Russian roulette from depth `rr` (its default: 5)
+            d = mitsuba_dict(name, mi)
+            d["sensor"]["sampler"] = {"type": "ldsampler", "sample_count": 4}
+            d["integrator"]["rr_depth"] = rr
+            self.scenes[f"ldsampler-rr{rr}"] = mi.load_dict(d)
         self.version = f"Mitsuba {mi.__version__} llvm_ad_rgb, {dr.thread_count()} threads"
 
     def render(self, sampler, spp, seed):
@@ -361,6 +369,10 @@ def parse_args():
                          "sampling, \"envlight=--integrator 'envlight(max_depth: {max_depth})'\" and "
                          "\"adaptive=--integrator 'envlight(max_depth: {max_depth})' --adaptive\"; ARGS is split as "
                          "a shell would)")
+    ap.add_argument("--peer-rr-depth", default="", metavar="D1,D2,...",
+                    help="also time Mitsuba (ldsampler) with its path tracer's rr_depth set to each of these (its "
+                         "default is 5; Prism's envlight plays roulette from the first bounce), as further peers "
+                         "`mitsuba-ldsampler-rrD`: the peer at its best Russian roulette, not only at its default")
     ap.add_argument("--ppm", action="store_true",
                     help="also Prism's `ppm` on the caustic and rough boxes, cornell_caustic and cornell_rough "
                          "(--integrator \"ppm(max_depth: D)\" with the reference's max_depth)")
@@ -392,6 +404,12 @@ def parse_args():
         a.cost_by_depth = [int(d) for d in a.cost_by_depth.split(",") if d]
     except ValueError:
         sys.exit("error: --cost-by-depth takes comma-separated integers (max_depth values, -1 unlimited)")
+    try:
+        a.peer_rr_depth = [int(d) for d in a.peer_rr_depth.split(",") if d]
+    except ValueError:
+        sys.exit("error: --peer-rr-depth takes comma-separated positive integers")
+    if any(d < 1 for d in a.peer_rr_depth):
+        sys.exit("error: --peer-rr-depth: each rr_depth must be at least 1")
     if any(d == 0 or d < -1 for d in a.cost_by_depth):
         sys.exit("error: --cost-by-depth: each max_depth must be -1 (unlimited) or at least 1")
     if a.cost_by_depth and not is_ld(a.spp[0]):
@@ -436,7 +454,7 @@ def measure(a):
             continue
         ref = read_exr(REFS / f"{name}.exr")
         h, w = ref.shape[:2]
-        mts = Mitsuba(name, a.threads)
+        mts = Mitsuba(name, a.threads, rr_depths=a.peer_rr_depth)
         versions.add(mts.version)
         configs = [(lb, shlex.split(args.replace("{max_depth}", str(max_depth))), binary)
                    for lb, args, binary in a.configs]
@@ -446,13 +464,14 @@ def measure(a):
             if a.pgo:
                 configs.append(("ppm-pgo", ppm, PGO_BINARY))
         peers = [(f"mitsuba-{s}", s) for s in ("ldsampler", "independent")]
+        peers += [(f"mitsuba-ldsampler-rr{rr}", f"ldsampler-rr{rr}") for rr in a.peer_rr_depth]
         ld_spp = [s for s in a.spp if is_ld(s)]
         if len(ld_spp) < len(a.spp):
             log(f"note: ldsampler skips spp {sorted(set(a.spp) - set(ld_spp))} (it takes 4, 16, 64, 256, ...)")
         log(f"{name}: warming up Mitsuba's JIT ...")
         for label, sampler in peers:
             for spp in a.spp:
-                if sampler != "ldsampler" or is_ld(spp):
+                if not sampler.startswith("ldsampler") or is_ld(spp):
                     mts.render(sampler, spp, 0)
         for binary in dict.fromkeys(c[2] for c in configs):
             prism_render(binary, ROOT / scene_file, min(a.spp), 0, a.threads, configs[0][1], tmp / "warmup.exr")
@@ -462,7 +481,7 @@ def measure(a):
                 seed = 1 + rep * 1000 + i
                 jobs = []
                 if spp in a.spp:
-                    jobs += [(lb, s, None) for lb, s in peers if s != "ldsampler" or is_ld(spp)]
+                    jobs += [(lb, s, None) for lb, s in peers if not s.startswith("ldsampler") or is_ld(spp)]
                 jobs += [(f"prism-{lb}", args, binary) for lb, args, binary in configs]
                 if (rep + i) % 2:
                     jobs.reverse()
@@ -527,7 +546,9 @@ def summarize(a, rows, versions):
     for scene in scenes:
         noise = noise_of(scene)
         prisms = [k[1] for k in curves if k[0] == scene and k[1].startswith("prism")]
-        for peer in ("mitsuba-ldsampler", "mitsuba-independent"):
+        peers = sorted({k[1] for k in curves if k[0] == scene and k[1].startswith("mitsuba")},
+                       key=lambda k: (k != "mitsuba-ldsampler", k != "mitsuba-independent", k))
+        for peer in peers:
             pc = curves.get((scene, peer), {})
             for p in prisms:
                 cc = curves[(scene, p)]

@@ -2,10 +2,13 @@
 //! Monte Carlo path tracer with next-event estimation, BSDF sampling, MIS and Russian roulette. It is Prism's
 //! unbiased reference integrator.
 //!
-//! Parameters: `envlight(max_depth: -1, rr_depth: 5, env_sampling: quadtree, mis: true)`
+//! Parameters: `envlight(max_depth: -1, rr_depth: 1, rr_threshold: 0.5, env_sampling: quadtree, mis: true)`
 //! - `max_depth`: path segments (1: emitters only, 2: direct lighting, -1: unlimited);
-//! - `rr_depth`: Russian roulette from this many segments on, survival `min(max(beta) eta^2, 0.95)` with `eta^2` the
-//!   radiance scaling of the refractions so far undone (Mitsuba's rule: a path inside glass is not a dimmer one);
+//! - `rr_depth`: Russian roulette from this many segments on;
+//! - `rr_threshold`: a path whose throughput `max(beta) eta^2` (`eta^2` the radiance scaling of the refractions so
+//!   far undone: a path inside glass is not a dimmer one) is below it survives with probability throughput /
+//!   threshold, one at or above it surely (`crate::integrator::roulette`). Mitsuba's rule is close to
+//!   `rr_depth: 5, rr_threshold: 1` (it also caps survival at 0.95);
 //! - `env_sampling`: `quadtree` | `piecewise` | `uniform` | `cosine` (for comparisons);
 //! - `mis`: weight light and BSDF sampling by the power heuristic; `false` uses light sampling alone for what
 //!   it can reach (pure strategy comparisons).
@@ -29,13 +32,20 @@ use serde::Deserialize;
 pub struct EnvlightParams {
     pub max_depth: i32,
     pub rr_depth: i32,
+    pub rr_threshold: f32,
     pub env_sampling: EnvStrategy,
     pub mis: bool,
 }
 
 impl Default for EnvlightParams {
     fn default() -> Self {
-        EnvlightParams { max_depth: -1, rr_depth: 5, env_sampling: EnvStrategy::Quadtree, mis: true }
+        EnvlightParams {
+            max_depth: -1,
+            rr_depth: 1,
+            rr_threshold: crate::integrator::roulette::DEFAULT_THRESHOLD,
+            env_sampling: EnvStrategy::Quadtree,
+            mis: true,
+        }
     }
 }
 
@@ -59,6 +69,12 @@ impl Plugin for EnvlightPlugin {
                 }
                 if params.rr_depth < 1 {
                     return Err(PrismError::invalid("envlight: rr_depth must be at least 1"));
+                }
+                if !(params.rr_threshold > 0.0 && params.rr_threshold.is_finite()) {
+                    return Err(PrismError::invalid(format!(
+                        "envlight: rr_threshold must be a positive finite number, got {}",
+                        params.rr_threshold
+                    )));
                 }
                 Ok(Box::new(PerPixel::new(Envlight { tracer: None, params })))
             }),

@@ -1,7 +1,7 @@
 //! The path tracer: unidirectional path tracing with next-event estimation (one light per vertex, chosen by
 //! power: the environment through its sampler, area lights by area/cone sampling, point and directional lights),
 //! BSDF sampling (cosine, Phong lobe, mirror, Fresnel dielectric), multiple importance sampling with the power
-//! heuristic, and Russian roulette. `max_depth` counts path segments as Mitsuba does (the camera ray is segment 1):
+//! heuristic, and Russian roulette (`crate::integrator::roulette`). `max_depth` counts path segments as Mitsuba does (the camera ray is segment 1):
 //! 1 shows emitters only, 2 is direct lighting (the single-bounce environment lighting of the seed), -1 is
 //! unlimited. Every vertex draws the same seven sampler dimensions in a fixed order — light choice (1D), light
 //! point (2D), BSDF lobe (1D), BSDF direction (2D), Russian roulette (1D) — so the low-discrepancy sampler
@@ -11,6 +11,7 @@ use super::EnvlightParams;
 use crate::bsdf::Bsdf;
 use crate::geometry::Ray;
 use crate::integrator::PixelIntegrator;
+use crate::integrator::roulette::survival;
 use crate::lights::LightSampler;
 use crate::primitives::{Hit, NO_LIGHT};
 use crate::sampling::{CAMERA_DIMENSIONS, Sampler, power_heuristic};
@@ -155,9 +156,9 @@ impl PathTracer {
             prev = Some(Prev { p: s.p, n: bsdf.normal(), pdf: bs.pdf, delta: bs.delta });
             depth += 1;
             if depth >= self.params.rr_depth {
-                // Survival by throughput with the radiance scaling of refractions undone (Mitsuba's rule): a path
-                // inside glass carries 1/eta^2 that its exit restores, so it is not a dimmer path.
-                let q = (beta.max_element() * eta2).min(0.95);
+                // Survival by throughput against a threshold, the radiance scaling of refractions undone (a path
+                // inside glass carries 1/eta^2 that its exit restores, so it is not a dimmer path).
+                let q = survival(beta, eta2, self.params.rr_threshold, depth);
                 if sampler.get_1d(u_rr) >= q {
                     break;
                 }

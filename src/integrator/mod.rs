@@ -12,6 +12,7 @@
 mod adaptive;
 mod per_pixel;
 mod registry;
+pub mod roulette;
 
 pub use adaptive::{MAX_RATE, MIN_ADAPTIVE_PIXELS, MIN_RATE, SampleAllocation};
 pub use per_pixel::{PerPixel, TILE_SIZE, lens_sample_index, tiles};

@@ -1,0 +1,65 @@
+//! Russian roulette for path tracers: when a path ends early, and what its survivors carry.
+//!
+//! A path that survives with probability `q` has its throughput divided by `q`, so the estimate stays unbiased
+//! whatever `q` is; `q` only trades time (shorter paths) against variance (the survivors' larger weights). The rule
+//! here is a **throughput threshold**: a path survives for sure while its throughput `max(beta) eta^2` (the
+//! radiance scaling `1/eta^2` of the refractions so far undone, as in Mitsuba, so a path inside glass is not a
+//! dimmer path) is at least `threshold`, and with probability `max(beta) eta^2 / threshold` below it. Dim paths
+//! end early, where they cost as much as bright ones but carry little; bright paths are never cut, which is where
+//! roulette's extra weight becomes variance.
+//!
+//! Parameters (`envlight`): `rr_depth`, the first path segment after which roulette is played, and `rr_threshold`.
+//! Mitsuba's rule is `threshold = 1` with survival capped at 0.95 from `rr_depth = 5` on. Prism's defaults are
+//! `rr_depth = 1` and `threshold = 0.5`; the README's "Russian roulette" and the performance log (nineteenth
+//! session) give the measurements behind them. So that every path ends even in a lossless scene with unlimited
+//! depth (mirrors, clear glass, white walls), survival is capped at [`LONG_PATH_SURVIVAL`] from segment
+//! [`LONG_PATH_SEGMENTS`] on.
+
+use glam::Vec3;
+
+/// From this many path segments on, survival is capped at [`LONG_PATH_SURVIVAL`].
+pub const LONG_PATH_SEGMENTS: i32 = 64;
+
+/// The cap on survival of paths of [`LONG_PATH_SEGMENTS`] or more: a path that keeps its throughput forever still
+/// ends after `1 / (1 - 0.95) = 20` further segments on average.
+pub const LONG_PATH_SURVIVAL: f32 = 0.95;
+
+/// The default throughput below which roulette is played (`envlight`'s `rr_threshold`).
+pub const DEFAULT_THRESHOLD: f32 = 0.5;
+
+/// Survival probability of a path after `segments` path segments with throughput `beta` and radiance scaling
+/// `eta2` (the product of `eta^2` over its refractions), under threshold `threshold` (`> 0`, finite). In `(0, 1]`
+/// for a positive throughput; the caller divides the throughput of a survivor by it.
+#[inline(always)]
+pub fn survival(beta: Vec3, eta2: f32, threshold: f32, segments: i32) -> f32 {
+    let q = beta.max_element() * eta2 / threshold;
+    let cap = if segments >= LONG_PATH_SEGMENTS { LONG_PATH_SURVIVAL } else { 1.0 };
+    q.min(cap)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn bright_paths_survive_surely_dim_ones_in_proportion_to_their_throughput() {
+        assert_eq!(survival(Vec3::splat(0.8), 1.0, 0.5, 3), 1.0);
+        assert_eq!(survival(Vec3::new(0.1, 0.5, 0.2), 1.0, 0.5, 3), 1.0);
+        assert!((survival(Vec3::new(0.1, 0.2, 0.05), 1.0, 0.5, 3) - 0.4).abs() < 1e-6);
+        // Threshold 1: survival equals the throughput (Mitsuba's rule without its cap).
+        assert!((survival(Vec3::splat(0.3), 1.0, 1.0, 3) - 0.3).abs() < 1e-6);
+    }
+
+    #[test]
+    fn refraction_scaling_is_undone() {
+        // Inside glass of index 1.5 a lossless path carries 1 / 2.25; with eta^2 undone it is a bright path.
+        assert_eq!(survival(Vec3::splat(1.0 / 2.25), 2.25, 0.5, 3), 1.0);
+    }
+
+    #[test]
+    fn every_path_ends_eventually() {
+        assert_eq!(survival(Vec3::ONE, 1.0, 0.5, LONG_PATH_SEGMENTS - 1), 1.0);
+        assert_eq!(survival(Vec3::ONE, 1.0, 0.5, LONG_PATH_SEGMENTS), LONG_PATH_SURVIVAL);
+        assert_eq!(survival(Vec3::splat(10.0), 1.0, 0.5, 1000), LONG_PATH_SURVIVAL);
+    }
+}
