@@ -279,6 +279,24 @@ fn a_closed_emitting_diffuse_enclosure_reaches_le_over_one_minus_rho() {
     assert!((m - 2.0).abs() < 0.02, "mean {m}, expected Le / (1 - rho) = 2");
 }
 
+/// The roulette rule itself (`prism::integrator::roulette::survival`): bright paths survive surely, dim ones in
+/// proportion to their throughput over the threshold, refraction's 1/eta^2 is undone, and from segment 64 on
+/// survival is capped at 0.95 so that every path ends.
+#[test]
+fn roulette_survival_is_throughput_over_threshold_capped_only_on_long_paths() {
+    use prism::integrator::roulette::{LONG_PATH_SEGMENTS, LONG_PATH_SURVIVAL, survival};
+    assert_eq!(survival(Vec3::splat(0.8), 1.0, 0.5, 3), 1.0);
+    assert_eq!(survival(Vec3::new(0.1, 0.5, 0.2), 1.0, 0.5, 3), 1.0);
+    assert!((survival(Vec3::new(0.1, 0.2, 0.05), 1.0, 0.5, 3) - 0.4).abs() < 1e-6);
+    // Threshold 1: survival equals the throughput (Mitsuba's rule without its cap).
+    assert!((survival(Vec3::splat(0.3), 1.0, 1.0, 3) - 0.3).abs() < 1e-6);
+    // Inside glass of index 1.5 a lossless path carries 1 / 2.25; with eta^2 undone it is a bright path.
+    assert_eq!(survival(Vec3::splat(1.0 / 2.25), 2.25, 0.5, 3), 1.0);
+    assert_eq!(survival(Vec3::ONE, 1.0, 0.5, LONG_PATH_SEGMENTS - 1), 1.0);
+    assert_eq!(survival(Vec3::ONE, 1.0, 0.5, LONG_PATH_SEGMENTS), LONG_PATH_SURVIVAL);
+    assert_eq!(survival(Vec3::splat(10.0), 1.0, 0.5, 1000), LONG_PATH_SURVIVAL);
+}
+
 /// Russian roulette only trades time for variance: with any start and threshold, the enclosure above (albedo 0.8,
 /// so paths of many bounces matter: Le / (1 - rho) = 5) renders its exact radiance. Each rule's mean is judged
 /// against its own standard error over the pixels; a rule that forgot to divide a survivor's throughput by its

@@ -36,30 +36,3 @@ pub fn survival(beta: Vec3, eta2: f32, threshold: f32, segments: i32) -> f32 {
     let cap = if segments >= LONG_PATH_SEGMENTS { LONG_PATH_SURVIVAL } else { 1.0 };
     q.min(cap)
 }
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn bright_paths_survive_surely_dim_ones_in_proportion_to_their_throughput() {
-        assert_eq!(survival(Vec3::splat(0.8), 1.0, 0.5, 3), 1.0);
-        assert_eq!(survival(Vec3::new(0.1, 0.5, 0.2), 1.0, 0.5, 3), 1.0);
-        assert!((survival(Vec3::new(0.1, 0.2, 0.05), 1.0, 0.5, 3) - 0.4).abs() < 1e-6);
-        // Threshold 1: survival equals the throughput (Mitsuba's rule without its cap).
-        assert!((survival(Vec3::splat(0.3), 1.0, 1.0, 3) - 0.3).abs() < 1e-6);
-    }
-
-    #[test]
-    fn refraction_scaling_is_undone() {
-        // Inside glass of index 1.5 a lossless path carries 1 / 2.25; with eta^2 undone it is a bright path.
-        assert_eq!(survival(Vec3::splat(1.0 / 2.25), 2.25, 0.5, 3), 1.0);
-    }
-
-    #[test]
-    fn every_path_ends_eventually() {
-        assert_eq!(survival(Vec3::ONE, 1.0, 0.5, LONG_PATH_SEGMENTS - 1), 1.0);
-        assert_eq!(survival(Vec3::ONE, 1.0, 0.5, LONG_PATH_SEGMENTS), LONG_PATH_SURVIVAL);
-        assert_eq!(survival(Vec3::splat(10.0), 1.0, 0.5, 1000), LONG_PATH_SURVIVAL);
-    }
-}
