@@ -1,11 +1,11 @@
 //! The path tracer: unidirectional path tracing with next-event estimation (one light per vertex, chosen by
 //! power: the environment through its sampler, area lights by area/cone sampling, point and directional lights),
 //! BSDF sampling (cosine, Phong lobe, mirror, Fresnel dielectric), multiple importance sampling with the power
-//! heuristic, and Russian roulette (`crate::integrator::roulette`). `max_depth` counts path segments as Mitsuba does (the camera ray is segment 1):
-//! 1 shows emitters only, 2 is direct lighting (the single-bounce environment lighting of the seed), -1 is
-//! unlimited. Every vertex draws the same seven sampler dimensions in a fixed order — light choice (1D), light
-//! point (2D), BSDF lobe (1D), BSDF direction (2D), Russian roulette (1D) — so the low-discrepancy sampler
-//! stratifies each of them at every bounce.
+//! heuristic, and Russian roulette (`crate::integrator::roulette`). `max_depth` counts path segments as Mitsuba
+//! does (the camera ray is segment 1): 1 shows emitters only, 2 is direct lighting (the single-bounce environment
+//! lighting of the seed), -1 is unlimited. Every vertex draws the same seven sampler dimensions in a fixed order —
+//! light choice (1D), light point (2D), BSDF lobe (1D), BSDF direction (2D), Russian roulette (1D) — so the
+//! low-discrepancy sampler stratifies each of them at every bounce.
 
 use super::EnvlightParams;
 use crate::bsdf::Bsdf;
