@@ -9,10 +9,11 @@
 //! Glossy surfaces (smooth lobes, none diffuse: rough metal and glass) are traced through by default
 //! (`glossy: trace`, pbrt-v4's rule): the vertex gets next-event estimation weighted by multiple importance
 //! sampling (power heuristic) against the BSDF sample that continues the path, whose emission found at the next
-//! vertex takes the complementary weight, as in `envlight`; Russian roulette (`envlight`'s rule) from the
-//! `RR_VERTICES`th eye vertex on ends long glossy chains. The visible point then lies on the next diffuse surface,
-//! so what a rough surface reflects is as sharp as its BSDF, not blurred over the gather radius. With `glossy:
-//! gather` (and in fixed mode) the visible point lies on the glossy surface itself.
+//! vertex takes the complementary weight, as in `envlight`; Russian roulette (Mitsuba's rule,
+//! `integrator::roulette::mitsuba_survival`) from the `RR_VERTICES`th eye vertex on ends long glossy chains. The
+//! visible point then lies on the next diffuse surface, so what a rough surface reflects is as sharp as its BSDF,
+//! not blurred over the gather radius. With `glossy: gather` (and in fixed mode) the visible point lies on the
+//! glossy surface itself.
 
 use crate::bsdf::Bsdf;
 use crate::lights::LightSampler;
@@ -129,7 +130,7 @@ impl EyePass<'_> {
                 }
                 glossy = (!bs.delta).then_some(GlossyVertex { p: hit.p, n: bsdf.normal(), pdf: bs.pdf });
                 if depth + 1 >= RR_VERTICES {
-                    let q = (beta.max_element() * eta2).min(0.95);
+                    let q = crate::integrator::roulette::mitsuba_survival(beta, eta2);
                     if sampler.next_1d() >= q {
                         break;
                     }

@@ -14,6 +14,8 @@
 //! session) give the measurements behind them. So that every path ends even in a lossless scene with unlimited
 //! depth (mirrors, clear glass, white walls), survival is capped at [`LONG_PATH_SURVIVAL`] from segment
 //! [`LONG_PATH_SEGMENTS`] on.
+//!
+//! [`mitsuba_survival`] is Mitsuba's rule itself, which `ppm`'s eye paths through glossy surfaces keep.
 
 use glam::Vec3;
 
@@ -35,4 +37,11 @@ pub fn survival(beta: Vec3, eta2: f32, threshold: f32, segments: i32) -> f32 {
     let q = beta.max_element() * eta2 / threshold;
     let cap = if segments >= LONG_PATH_SEGMENTS { LONG_PATH_SURVIVAL } else { 1.0 };
     q.min(cap)
+}
+
+/// Mitsuba's rule: survival `min(max(beta) eta^2, 0.95)` (threshold 1, capped at every roulette). `ppm`'s eye paths
+/// through glossy surfaces use it; `envlight` uses [`survival`].
+#[inline(always)]
+pub fn mitsuba_survival(beta: Vec3, eta2: f32) -> f32 {
+    (beta.max_element() * eta2).min(LONG_PATH_SURVIVAL)
 }
