@@ -43,7 +43,8 @@ per-repetition range (min-max of the ratio from each repetition's own points alo
 headline). Where NAME.json gives the reference's own noise, a ratio with
 both errors corrected for it (sqrt(rmse^2 - noise^2)) is shown too.
 
-Prism's fastest binary (`--pgo`): every Prism configuration is run twice, by the plain `cargo build --release`
+The profile-guided build (`--pgo`; once Prism's fastest binary, 4-7% slower than the plain one on the AMD Zen 4 of
+2026-11-28, see the performance log): every Prism configuration is run twice, by the plain `cargo build --release`
 binary and by the profile-guided build of benches/pgo/build.sh (target/pgo/prism, built first when it is missing or
 was built from other sources, by a hash of them kept beside it; labels ending in `-pgo`), interleaved like the rest.
 With --cost-by-depth, --pgo times the profile-guided binary instead of the plain one.
