@@ -80,6 +80,23 @@ fn bilinear_weights_and_wrap_modes_follow_the_mitsuba_rules() {
     assert!((col(-5.0 + 2.5 / 4.0, Wrap::Repeat) - 2.0).abs() < 1e-5);
 }
 
+/// A bilinear lookup's pair of neighbouring indices (`Wrap::index_pair`, which skips the division where both lie
+/// inside the image) is the two indices wrapped one at a time, in every mode, for sizes 1 to 9 and indices far
+/// outside on both sides, the edges included.
+#[test]
+fn wrapped_index_pairs_equal_the_indices_wrapped_one_at_a_time() {
+    for wrap in [Wrap::Repeat, Wrap::Clamp, Wrap::Mirror] {
+        for n in 1u32..10 {
+            for i in -40i64..40 {
+                assert_eq!(wrap.index_pair(i, n), (wrap.index(i, n), wrap.index(i + 1, n)), "{wrap:?} n {n} i {i}");
+            }
+            for i in [-1_000_000_000, 1_000_000_000, i64::from(n) - 1, -i64::from(n)] {
+                assert_eq!(wrap.index_pair(i, n), (wrap.index(i, n), wrap.index(i + 1, n)), "{wrap:?} n {n} i {i}");
+            }
+        }
+    }
+}
+
 #[test]
 fn srgb_textures_are_decoded_per_texel_before_interpolation() {
     let path = crate::common::root().join("scenes/assets/checker_f.png");

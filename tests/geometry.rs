@@ -3,7 +3,7 @@
 
 use glam::Vec3A;
 use prism::geometry::{Ray, TriPacket, WatertightRay, gamma, intersect_sphere, offset_ray_origin, spawn_ray};
-use prism::math::{Frame, fresnel_dielectric, lane_mask16, refract};
+use prism::math::{Frame, floor_f32, fresnel_dielectric, lane_mask16, refract};
 use prism::mesh::MeshData;
 use prism::primitives::sphere_point_error;
 use prism::sampling::{Rng, warp};
@@ -546,5 +546,36 @@ fn the_multiplied_lane_mask_equals_the_bit_by_bit_mask_for_every_pattern() {
         let plain = (0..16).fold(0u32, |m, l| m | (bit(l) as u32) << l);
         assert_eq!(plain, pattern);
         assert_eq!(lane_mask16(bit), plain, "pattern {pattern:#06x}");
+    }
+}
+
+/// The call-free floor used by texture and environment lookups is `f32::floor` bit for bit: signed zeros, values
+/// just below and above every integer, the 2^23 boundary where every `f32` becomes an integer, infinities, NaN, and
+/// a million random bit patterns.
+#[test]
+fn floor_without_libm_is_f32_floor_bit_for_bit() {
+    let same = |x: f32| {
+        let (a, b) = (floor_f32(x), x.floor());
+        assert!(a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan()), "floor({x:e}): {a:e} vs {b:e}");
+    };
+    for x in [0.0, -0.0, 0.5, -0.5, 1.0, -1.0, f32::MIN_POSITIVE, -f32::MIN_POSITIVE, 1e-45, -1e-45] {
+        same(x);
+    }
+    for x in [f32::INFINITY, f32::NEG_INFINITY, f32::NAN, f32::MAX, f32::MIN, 8_388_608.0, -8_388_608.0] {
+        same(x);
+    }
+    for k in -300i32..300 {
+        let x = k as f32 * 0.37 + 8_388_000.0 * (k % 3) as f32;
+        for y in [x, f32::from_bits(x.to_bits().wrapping_add(1)), f32::from_bits(x.to_bits().wrapping_sub(1))] {
+            same(y);
+            same(-y);
+        }
+    }
+    for b in [8_388_607.5f32, 8_388_607.0, 4_194_303.5, -4_194_303.5, -8_388_607.5] {
+        same(b);
+    }
+    let mut rng = Rng::new(7, 0);
+    for _ in 0..1_000_000 {
+        same(f32::from_bits(rng.next_u32()));
     }
 }

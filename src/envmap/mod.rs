@@ -18,6 +18,7 @@ mod image_file;
 pub use cube::{CUBE_FACES, FaceFrame, cube_coords, cube_direction, cube_jacobian, cube_texel_solid_angle};
 
 use crate::error::{PrismError, Result};
+use crate::math::floor_f32;
 use glam::{Vec2, Vec3, Vec3A};
 use std::f32::consts::PI;
 use std::path::{Path, PathBuf};
@@ -42,10 +43,19 @@ impl EnvImage {
         let (w, h) = (self.width as i64, self.height as i64);
         let x = uv.x * w as f32 - 0.5;
         let y = uv.y * h as f32 - 0.5;
-        let (x0, y0) = (x.floor(), y.floor());
+        let (x0, y0) = (floor_f32(x), floor_f32(y));
         let (fx, fy) = (x - x0, y - y0);
         let (x0, y0) = (x0 as i64, y0 as i64);
-        let cx = |x: i64| if wrap_x { x.rem_euclid(w) } else { x.clamp(0, w - 1) };
+        // Inside the image no index moves (and `rem_euclid`'s division is skipped).
+        let cx = |x: i64| {
+            if (0..w).contains(&x) {
+                x
+            } else if wrap_x {
+                x.rem_euclid(w)
+            } else {
+                x.clamp(0, w - 1)
+            }
+        };
         let cy = |y: i64| y.clamp(0, h - 1);
         let t = |x: i64, y: i64| self.texels[(cy(y) * w + cx(x)) as usize];
         let top = t(x0, y0) * (1.0 - fx) + t(x0 + 1, y0) * fx;
@@ -85,7 +95,7 @@ pub struct EnvMap {
 pub fn equirect_coords(d: Vec3A) -> Vec2 {
     let u = 0.5 + d.x.atan2(-d.z) / (2.0 * PI);
     let v = d.y.clamp(-1.0, 1.0).acos() / PI;
-    Vec2::new(u - u.floor(), v)
+    Vec2::new(u - floor_f32(u), v)
 }
 
 /// Unit direction of equirect coordinates.
