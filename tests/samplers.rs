@@ -474,14 +474,23 @@ fn batched_sobol_points_equal_the_one_point_function() {
 /// of eight vertices (1D and 2D, the batched dimensions and the others) for sixteen samples, with the batch naming
 /// dimensions the path asks for, one it asks for as 1D numbers and one it never reaches. Both ways a chunk is
 /// filled: lanes from two pixels (`set_lanes` over part of the chunk) and one pixel's whole chunk (its own path).
+/// And a batch cut down to its first dimensions (`SobolBatch::keep`, as a tile does once it has seen how far its
+/// paths go): the dimensions it no longer computes are computed alone, to the same numbers.
 #[test]
 fn a_sampler_given_batched_points_gives_the_numbers_it_would_compute() {
     // Vertex v's dimensions as `envlight` draws them: 1D, 2D, 1D, 2D, 1D from 4 + 7 v.
     let dims: Vec<u32> = (0..4u32).flat_map(|v| [4 + 7 * v + 1, 4 + 7 * v + 4]).chain([7, 500]).collect();
-    // Lanes of the first pixel; the rest are the second pixel's.
-    for first_pixel_lanes in [10, SOBOL_BATCH] {
+    let mut cut = SobolBatch::new(&dims);
+    cut.keep(0);
+    assert_eq!(cut.dims(), &dims[..1], "a batch keeps at least one dimension");
+    // Lanes of the first pixel; the rest are the second pixel's; all dimensions, or the first three.
+    for (first_pixel_lanes, keep) in [(10, None), (SOBOL_BATCH, None), (10, Some(3)), (SOBOL_BATCH, Some(3))] {
         let mut pixels = [sobol(0xabc), sobol(0xdef)];
         let mut batch = SobolBatch::new(&dims);
+        if let Some(k) = keep {
+            batch.keep(k);
+            assert_eq!(batch.dims(), &dims[..k]);
+        }
         let owner = |lane: usize| {
             let p = usize::from(lane >= first_pixel_lanes);
             (p, 3 + (lane - p * first_pixel_lanes) as u32)

@@ -73,7 +73,8 @@ impl PixelIntegrator for PathTracer {
     }
 }
 
-/// Path vertices whose Sobol points `PerPixel` computes ahead for a packet's samples (`batched_2d_dims`).
+/// Path vertices whose Sobol points `PerPixel` may compute ahead for a packet's samples (`batched_2d_dims`; each tile
+/// then keeps those most of its paths reach).
 const BATCHED_VERTICES: u32 = 6;
 
 impl PathTracer {

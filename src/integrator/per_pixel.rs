@@ -36,6 +36,15 @@ use glam::{Vec2, Vec3};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, Ordering};
 
+/// Samples of a tile after which its Sobol batch drops the dimensions few of them reached.
+const BATCH_WARMUP: u32 = 256;
+/// The share of a tile's first samples that must have reached a batched dimension for the batch to keep computing
+/// it: a point computed ahead for a path that ended before asking for it is wasted work (short paths: an open scene
+/// whose rays escape), one not computed ahead is computed alone when asked for. The numbers are the same either way.
+/// `textured` renders 6% faster than with all thirteen dimensions, the Cornell box (which keeps five to nine) 0.7%
+/// (0.25 and 0.75 measured within 1% of it; performance log, twenty-first session).
+const BATCH_REACH: f32 = 0.5;
+
 // A chunk's samples are the Sobol batch's lanes.
 const _: () = assert!(PACKET == SOBOL_BATCH);
 
@@ -183,6 +192,10 @@ impl<T: PixelIntegrator> PerPixel<T> {
         // With packets, the chunk's Sobol points are computed together ([`SobolBatch`]): the pixel position (the
         // batch's first dimension) and those the estimator asks for at its first vertices.
         let mut batch = SobolBatch::new(if packets { &self.batch_dims } else { &[] });
+        // How many of the tile's first samples reached each batched dimension: once `BATCH_WARMUP` samples are in,
+        // the batch keeps only the dimensions most samples reach (see `BATCH_REACH`).
+        let mut reach = [0u32; crate::sampling::MAX_BATCH_DIMS];
+        let mut seen = 0u32;
         // The camera ray of sample `index` of pixel `p`, lane `lane` of its chunk (its dimensions 0-3 drawn from the
         // pixel's sampler, the pixel position from the batch where there is one).
         let camera_ray = |p: &mut PixelSamples, index: u64, lane: usize, batch: &SobolBatch| {
@@ -256,6 +269,17 @@ impl<T: PixelIntegrator> PerPixel<T> {
                     } else {
                         self.estimator.radiance(scene, rays[j], &mut p.sampler)
                     };
+                    if seen < BATCH_WARMUP && !batch.is_empty() {
+                        seen += 1;
+                        let used = p.sampler.dimension();
+                        for (r, &d) in reach.iter_mut().zip(batch.dims()) {
+                            *r += (used > d) as u32;
+                        }
+                        if seen == BATCH_WARMUP {
+                            let kept = reach.iter().take_while(|&&r| r as f32 >= BATCH_REACH * seen as f32).count();
+                            batch.keep(kept);
+                        }
+                    }
                     if cancel.load(Ordering::Relaxed) {
                         return None;
                     }

@@ -6,7 +6,9 @@
 //!
 //! `PerPixel` uses it where it already works a chunk at a time (the camera-ray packets): the estimator names the
 //! dimensions ([`crate::integrator::PixelIntegrator::batched_2d_dims`]). A dimension computed for a path that ends
-//! before asking for it is wasted work, so an estimator names the ones most paths reach.
+//! before asking for it is wasted work, so an estimator names those paths may reach, and each tile, once its first
+//! samples show how far its paths go, keeps computing only the dimensions at least half of them reached
+//! ([`SobolBatch::keep`]; short paths, such as an open scene's whose rays escape, keep three or five of thirteen).
 
 use super::sampler::Sampler;
 use super::sobol::{SOBOL_BATCH, sobol_owen_2d_batch};
@@ -43,6 +45,16 @@ impl SobolBatch {
     /// Whether the batch has no dimension to compute.
     pub fn is_empty(&self) -> bool {
         self.n == 0
+    }
+
+    /// The dimensions the batch computes (ascending).
+    pub fn dims(&self) -> &[u32] {
+        &self.dims[..self.n]
+    }
+
+    /// Compute only the first `n` dimensions from now on (at least one is kept: a batch stays a batch).
+    pub fn keep(&mut self, n: usize) {
+        self.n = self.n.min(n.max(1));
     }
 
     /// Lanes `first..first + count` (within `SOBOL_BATCH`) are samples `index..index + count` of the pixel whose
