@@ -19,6 +19,7 @@ pub use cube::{CUBE_FACES, FaceFrame, cube_coords, cube_direction, cube_jacobian
 
 use crate::error::{PrismError, Result};
 use crate::math::floor_f32;
+use crate::texture::Wrap;
 use glam::{Vec2, Vec3, Vec3A};
 use std::f32::consts::PI;
 use std::path::{Path, PathBuf};
@@ -46,20 +47,12 @@ impl EnvImage {
         let (x0, y0) = (floor_f32(x), floor_f32(y));
         let (fx, fy) = (x - x0, y - y0);
         let (x0, y0) = (x0 as i64, y0 as i64);
-        // Inside the image no index moves (and `rem_euclid`'s division is skipped).
-        let cx = |x: i64| {
-            if (0..w).contains(&x) {
-                x
-            } else if wrap_x {
-                x.rem_euclid(w)
-            } else {
-                x.clamp(0, w - 1)
-            }
-        };
-        let cy = |y: i64| y.clamp(0, h - 1);
-        let t = |x: i64, y: i64| self.texels[(cy(y) * w + cx(x)) as usize];
-        let top = t(x0, y0) * (1.0 - fx) + t(x0 + 1, y0) * fx;
-        let bottom = t(x0, y0 + 1) * (1.0 - fx) + t(x0 + 1, y0 + 1) * fx;
+        // The image textures' index wrapping (which skips the division where both indices lie inside the image).
+        let (c0, c1) = if wrap_x { Wrap::Repeat } else { Wrap::Clamp }.index_pair(x0, self.width);
+        let (r0, r1) = Wrap::Clamp.index_pair(y0, self.height);
+        let t = |c: usize, r: usize| self.texels[r * self.width as usize + c];
+        let top = t(c0, r0) * (1.0 - fx) + t(c1, r0) * fx;
+        let bottom = t(c0, r1) * (1.0 - fx) + t(c1, r1) * fx;
         top * (1.0 - fy) + bottom * fy
     }
 }
