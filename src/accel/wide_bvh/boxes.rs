@@ -67,11 +67,14 @@ enum Plane {
     MaxZ = 5,
 }
 
-/// The box test's reciprocal of direction `dir`: components beyond +-1e25 clamped to it with the direction's
-/// sign, -0 treated as +0 (the one-ray test and the packet test share it).
+/// The largest reciprocal direction component [`clamped_recip`] gives (its sign the component's).
+pub(super) const RECIP_CLAMP: f32 = 1e25;
+
+/// The box test's reciprocal of direction `dir`: components beyond +-[`RECIP_CLAMP`] clamped to it with the
+/// direction's sign, -0 treated as +0 (the one-ray test uses it; the packet test computes the same lane by lane).
 #[inline(always)]
 pub(super) fn clamped_recip(dir: Vec3A) -> Vec3A {
-    const BIG: f32 = 1e25;
+    const BIG: f32 = RECIP_CLAMP;
     let d = dir + Vec3A::ZERO; // -0 becomes +0
     let r = d.recip();
     Vec3A::select(r.abs().cmpgt(Vec3A::splat(BIG)), Vec3A::splat(BIG).copysign(d), r)
