@@ -337,6 +337,44 @@ fn camera(aperture: f32, focus: f32) -> CameraRig {
     CameraRig::new(&cam, &glam::Affine3A::IDENTITY).unwrap()
 }
 
+/// A chunk's camera rays made together (`CameraRig::generate_rays`, the pinhole's lanes computed side by side) are
+/// the rays `generate_ray` makes one at a time, bit for bit: perspective and orthographic, mirrored and cropped
+/// frames, a non-square image, chunks of 1 to 16 rays, film positions inside and outside the frame.
+#[test]
+fn camera_rays_made_sixteen_at_a_time_are_the_rays_made_one_at_a_time() {
+    let mut rng = Rng::new(9, 9);
+    let bits = |r: &prism::geometry::Ray| {
+        (r.origin.to_array().map(f32::to_bits), r.dir.to_array().map(f32::to_bits), r.coherent)
+    };
+    for (projection, mirror, crop) in [
+        (Projection::Perspective { fov_y: 39.3077 }, false, None),
+        (Projection::Perspective { fov_y: 90.0 }, true, Some([0.1, 0.2, 0.7, 0.9])),
+        (Projection::Orthographic { height: 2.5 }, false, None),
+    ] {
+        let cam = Camera {
+            eye: Vec3::new(0.3, -0.2, 3.9),
+            target: Vec3::new(0.1, 0.05, 0.0),
+            up: Vec3::Y,
+            projection,
+            width: 320,
+            height: 200,
+            mirror,
+            crop,
+            ..Camera::default()
+        };
+        let rig = CameraRig::new(&cam, &glam::Affine3A::IDENTITY).unwrap();
+        for n in 1..=16 {
+            let films: Vec<Vec2> =
+                (0..n).map(|_| Vec2::new(rng.next_f32() * 360.0 - 20.0, rng.next_f32() * 240.0 - 20.0)).collect();
+            let mut rays = vec![prism::geometry::Ray::new(Vec3A::ZERO, Vec3A::Z); n];
+            rig.generate_rays(&films, &mut rays);
+            for (f, r) in films.iter().zip(&rays) {
+                assert_eq!(bits(r), bits(&rig.generate_ray(*f)), "{projection:?}, film {f}");
+            }
+        }
+    }
+}
+
 #[test]
 fn thin_lens_of_aperture_zero_is_the_pinhole_and_the_focal_plane_is_sharp() {
     let pinhole = camera(0.0, 3.4);

@@ -186,6 +186,8 @@ impl<T: PixelIntegrator> PerPixel<T> {
         let mut nonfinite = 0;
         let packets = self.estimator.takes_camera_hits() && pattern.is_none() && s.sampler == SamplerKind::Sobol;
         let chunk = if packets { PACKET } else { 1 };
+        // Packets of a pinhole's rays take their pixel positions from the batch and need nothing else of the sampler.
+        let pinhole_batch = packets && !camera.has_lens();
         let mut rays = [Ray::new(glam::Vec3A::ZERO, glam::Vec3A::Z); PACKET];
         let mut hits = [None; PACKET];
         let mut owner = [(0usize, 0u64); PACKET];
@@ -250,8 +252,17 @@ impl<T: PixelIntegrator> PerPixel<T> {
                     }
                     batch.compute();
                 }
-                for (lane, &(k, index)) in owner[..m].iter().enumerate() {
-                    rays[lane] = camera_ray(&mut row[k], index, lane, &batch);
+                if pinhole_batch {
+                    // The pixel positions from the batch, the rays all at once (the path starts its sampler anew).
+                    let mut films = [Vec2::ZERO; PACKET];
+                    for (lane, &(k, _)) in owner[..m].iter().enumerate() {
+                        films[lane] = row[k].centre + s.filter.warp(batch.point(lane, 0));
+                    }
+                    camera.generate_rays(&films[..m], &mut rays[..m]);
+                } else {
+                    for (lane, &(k, index)) in owner[..m].iter().enumerate() {
+                        rays[lane] = camera_ray(&mut row[k], index, lane, &batch);
+                    }
                 }
                 if packets {
                     scene.intersect_packet(&rays[..m], &mut hits[..m]);
