@@ -101,20 +101,18 @@ impl<'a> Packet<'a> {
             let (sx, sy) = (pick(kx) * sz, pick(ky) * sz);
             for c in 0..3u32 {
                 let i = c as usize;
-                p.rows[0][i][l] = if c == kx {
-                    1.0
-                } else if c == kz {
-                    0.0 - sx
-                } else {
-                    0.0
+                // Entry `c` of the row `e_k - s e_kz`, as `coefficients` writes it.
+                let shear_row = |k: u32, s: f32| {
+                    if c == k {
+                        1.0
+                    } else if c == kz {
+                        0.0 - s
+                    } else {
+                        0.0
+                    }
                 };
-                p.rows[1][i][l] = if c == ky {
-                    1.0
-                } else if c == kz {
-                    0.0 - sy
-                } else {
-                    0.0
-                };
+                p.rows[0][i][l] = shear_row(kx, sx);
+                p.rows[1][i][l] = shear_row(ky, sy);
                 p.rows[2][i][l] = if c == kz { sz } else { sz * 0.0 };
                 // `clamped_recip`: -0 taken as +0, reciprocals beyond 1e25 clamped to it with the direction's sign.
                 let di = d[i] + 0.0;
