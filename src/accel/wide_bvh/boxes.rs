@@ -74,10 +74,9 @@ pub(super) const RECIP_CLAMP: f32 = 1e25;
 /// direction's sign, -0 treated as +0 (the one-ray test uses it; the packet test computes the same lane by lane).
 #[inline(always)]
 pub(super) fn clamped_recip(dir: Vec3A) -> Vec3A {
-    const BIG: f32 = RECIP_CLAMP;
     let d = dir + Vec3A::ZERO; // -0 becomes +0
     let r = d.recip();
-    Vec3A::select(r.abs().cmpgt(Vec3A::splat(BIG)), Vec3A::splat(BIG).copysign(d), r)
+    Vec3A::select(r.abs().cmpgt(Vec3A::splat(RECIP_CLAMP)), Vec3A::splat(RECIP_CLAMP).copysign(d), r)
 }
 
 /// The reciprocal direction with tiny components clamped, and per axis whether the near plane is the box's max
