@@ -10,6 +10,7 @@ mod analytic;
 mod appearance;
 mod bvh_build;
 mod bvh_traversal;
+mod clear_shadows;
 mod converge;
 mod curve_stability;
 mod curves;

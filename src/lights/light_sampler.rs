@@ -4,15 +4,18 @@
 //! an [`EnvSampling`] of the integrator's chosen strategy, built only when the scene has an environment light.
 //! Integrators build one in Prepare: `LightSampler::new(&scene.lights, &scene.prims, EnvStrategy::Quadtree)`.
 
-use super::{EnvSampling, EnvStrategy, LeSample, LightSample, LightSet, PowerLightSampler};
+use super::{ClearShadows, EnvSampling, EnvStrategy, LeSample, LightSample, LightSet, PowerLightSampler};
 use crate::primitives::{Primitives, SurfaceHit};
 use glam::{Vec2, Vec3A};
+use std::sync::Arc;
 
 #[derive(Clone, Debug)]
 pub struct LightSampler {
     pub choice: PowerLightSampler,
     /// The environment's direction sampler (present when the scene has an environment light).
     pub env: Option<EnvSampling>,
+    /// Shadow rays proven clear without tracing them (scenes and lights it covers; see [`ClearShadows`]).
+    pub clear: Option<Arc<ClearShadows>>,
 }
 
 impl LightSampler {
@@ -20,7 +23,14 @@ impl LightSampler {
         LightSampler {
             choice: PowerLightSampler::new(lights, prims),
             env: lights.environment.as_ref().map(|e| EnvSampling::new(e, strategy)),
+            clear: ClearShadows::new(lights, prims).map(Arc::new),
         }
+    }
+
+    /// True when the shadow ray from `s` to a point of light `slot` is known to be clear without tracing it.
+    #[inline(always)]
+    pub fn proven_clear(&self, s: &SurfaceHit, slot: usize) -> bool {
+        self.clear.as_ref().is_some_and(|c| c.proven_clear(s, slot))
     }
 
     /// True when the scene has no light to sample.
@@ -51,6 +61,20 @@ impl LightSampler {
         u_choice: f32,
         u: Vec2,
     ) -> Option<LightSample> {
+        self.sample_li_slot(lights, prims, p, n, u_choice, u).map(|(ls, _)| ls)
+    }
+
+    /// `sample_li`, with the slot of the light chosen.
+    #[inline(always)]
+    pub fn sample_li_slot(
+        &self,
+        lights: &LightSet,
+        prims: &Primitives,
+        p: Vec3A,
+        n: Vec3A,
+        u_choice: f32,
+        u: Vec2,
+    ) -> Option<(LightSample, usize)> {
         if self.choice.is_empty() {
             return None;
         }
@@ -58,7 +82,7 @@ impl LightSampler {
         if slot == lights.len() {
             let (env, es) = (lights.environment.as_ref()?, self.env.as_ref()?);
             let (wi, pdf) = es.sample(env, n, u)?;
-            return Some(LightSample {
+            let ls = LightSample {
                 p: p + wi * 1e30,
                 p_err: Vec3A::ZERO,
                 n: Vec3A::ZERO,
@@ -67,11 +91,12 @@ impl LightSampler {
                 li: env.eval(wi),
                 pdf: prob * pdf,
                 delta: false,
-            });
+            };
+            return Some((ls, slot));
         }
         let mut ls = lights.sample_li(slot, prims, p, u)?;
         ls.pdf *= prob;
-        Some(ls)
+        Some((ls, slot))
     }
 
     /// The pdf `sample_li` from `p` gives the point `s` of area light `slot` (for MIS weights of emission that BSDF

@@ -15,6 +15,7 @@
 //! hit names its light directly; the environment, if any, is slot `lights.len()`.
 
 mod area;
+mod clear_shadows;
 mod direct;
 mod directional;
 mod env_sampling;
@@ -27,6 +28,7 @@ mod quadtree;
 mod spot;
 
 pub use area::{AreaLight, AreaShape};
+pub use clear_shadows::ClearShadows;
 pub use directional::DirectionalLight;
 pub use env_sampling::{EnvSampling, EnvStrategy};
 pub use environment::EnvironmentLight;
