@@ -12,7 +12,7 @@
 //! - **the region**: the triangle clipped to the cell grown by a margin (the vertex's point and its cell index carry
 //!   rounding errors); the segments' real ends (origins offset off the surface, targets offset off the light,
 //!   `tmax` just short of 1) lie within `1e-5` of the scene's largest coordinate of the hull, and every occluder
-//!   must be apart from it by `GAP_SCALE` (`1e-4`) of it;
+//!   must be apart from it by the [`Occluders`] gap (`1e-4` of it);
 //! - **the light**: every light point must lie strictly on one side of the triangle's plane, so the rays all leave
 //!   the surface towards that side; primitives wholly behind that plane (the surface's own coplanar neighbours,
 //!   the faces of a box behind the one hit) cannot meet them. Likewise, when the light is planar and the region
@@ -23,27 +23,21 @@
 //!   analytic shapes by the corners of their boxes; infinite planes must leave the whole hull on one side.
 //!
 //! Built for triangle-set area lights of at most `MAX_LIGHT_TRIANGLES` triangles, point and spot lights (their
-//! position), in scenes of at most `MAX_OCCLUDERS` bounded primitives (each proof scans them all); other lights,
+//! position), in scenes of at most [`crate::primitives::MAX_OCCLUDERS`] bounded primitives (each proof scans them all); other lights,
 //! vertices on analytic shapes and larger scenes trace every shadow ray as before. The grid has `CELLS_PER_AXIS`
 //! cells along the scene's longest side.
 
-use crate::geometry::hulls_apart;
 use crate::lights::{AreaShape, LightSet, LightSource};
-use crate::primitives::{Primitives, SurfaceHit};
+use crate::primitives::{Occluders, Primitives, SurfaceHit, dvec};
 use glam::{DVec3, Vec3A};
 use std::sync::atomic::{AtomicU8, Ordering};
 
 /// Cells of the grid along the scene's longest side.
 const CELLS_PER_AXIS: f32 = 32.0;
-/// Scenes with more bounded primitives than this are not covered (a proof scans every primitive).
-const MAX_OCCLUDERS: u32 = 1024;
 /// Area lights of more triangles than this are not covered (their hull would be loose).
 const MAX_LIGHT_TRIANGLES: u32 = 16;
 /// At most this many cached proofs (one byte each); triangles past it are not covered.
 const MAX_FLAGS: usize = 1 << 22; // below 2^23: see `proven_clear`
-/// The gap every occluder must keep from a region's hull, and the margin the cells grow by, relative to the scene's
-/// largest coordinate: ten times the largest offset of a shadow ray's ends from the hull.
-const GAP_SCALE: f64 = 1e-4;
 
 const UNKNOWN: u8 = 0;
 const CLEAR: u8 = 1;
@@ -63,15 +57,6 @@ struct TriCells {
 /// low 23 bits are that number.
 const ROUND: f32 = 8_388_608.0;
 
-/// A primitive that could block a shadow ray: its points (a triangle's corners, an analytic shape's box corners)
-/// and its box.
-#[derive(Clone, Debug)]
-struct Occluder {
-    points: Vec<DVec3>,
-    min: DVec3,
-    max: DVec3,
-}
-
 /// Where a light's samples lie: the hull of `points`, and the plane of a planar light (unit normal, offset).
 #[derive(Clone, Debug)]
 struct LightRegion {
@@ -89,10 +74,8 @@ pub struct ClearShadows {
     lights: Vec<Option<LightRegion>>,
     slots: usize,
     flags: Vec<AtomicU8>,
-    tris: Vec<[DVec3; 3]>,
-    occluders: Vec<Occluder>,
-    planes: Vec<(DVec3, f64)>,
-    gap: f64,
+    /// The scene's primitives as point sets; its gap is also the margin the cells grow by.
+    occluders: Occluders,
 }
 
 impl std::fmt::Debug for ClearShadows {
@@ -101,26 +84,18 @@ impl std::fmt::Debug for ClearShadows {
     }
 }
 
-/// An `f32` point in `f64`.
-fn dvec(v: Vec3A) -> DVec3 {
-    DVec3::new(v.x as f64, v.y as f64, v.z as f64)
-}
-
 impl ClearShadows {
     /// The cache for `lights` over `prims`, or None when the scene is not covered (too many primitives, no light
     /// that can be covered, an empty or non-finite scene).
     pub fn new(lights: &LightSet, prims: &Primitives) -> Option<Self> {
         let bounds = prims.bounds;
-        if prims.num_bounded() > MAX_OCCLUDERS || prims.tris.is_empty() || bounds.is_empty() {
+        if prims.tris.is_empty() {
             return None;
         }
+        let occluders = Occluders::new(prims)?;
         let regions: Vec<Option<LightRegion>> = lights.lights.iter().map(|l| light_region(l, prims)).collect();
         let slots = regions.iter().rposition(Option::is_some)? + 1;
         let extent = bounds.diagonal().max_element();
-        let scale = bounds.min.abs().max(bounds.max.abs()).max_element() as f64;
-        if !(extent > 0.0 && extent.is_finite() && scale.is_finite()) {
-            return None;
-        }
         let inv_cell = CELLS_PER_AXIS / extent;
         let origin = bounds.min;
         let mut cells = Vec::with_capacity(prims.tris.len());
@@ -138,28 +113,6 @@ impl ClearShadows {
             cells.push(TriCells { lo, dims, stride, base: total as u32 });
             total += n;
         }
-        let occluders = (0..prims.num_bounded())
-            .map(|id| {
-                let points: Vec<DVec3> = if id < prims.num_tris() {
-                    prims.tris[id as usize].iter().map(|&p| dvec(p)).collect()
-                } else {
-                    let b = prims.prim_bounds(id);
-                    (0..8)
-                        .map(|i| {
-                            let pick = |bit: u32, lo: f32, hi: f32| if i & bit == 0 { lo } else { hi };
-                            DVec3::new(
-                                pick(1, b.min.x, b.max.x) as f64,
-                                pick(2, b.min.y, b.max.y) as f64,
-                                pick(4, b.min.z, b.max.z) as f64,
-                            )
-                        })
-                        .collect()
-                };
-                let min = points.iter().fold(DVec3::INFINITY, |m, &p| m.min(p));
-                let max = points.iter().fold(DVec3::NEG_INFINITY, |m, &p| m.max(p));
-                Occluder { points, min, max }
-            })
-            .collect();
         Some(ClearShadows {
             origin,
             inv_cell,
@@ -167,10 +120,7 @@ impl ClearShadows {
             lights: regions,
             slots,
             flags: (0..total).map(|_| AtomicU8::new(UNKNOWN)).collect(),
-            tris: prims.tris.iter().map(|t| t.map(dvec)).collect(),
             occluders,
-            planes: prims.planes.iter().map(|p| (dvec(p.normal), p.offset as f64)).collect(),
-            gap: GAP_SCALE * scale.max(extent as f64),
         })
     }
 
@@ -205,8 +155,8 @@ impl ClearShadows {
     /// triangle `tri` in `cell` to light `slot`.
     pub(crate) fn prove(&self, tri: u32, cell: Vec3A, slot: usize) -> bool {
         let Some(Some(light)) = self.lights.get(slot) else { return false };
-        let t = self.tris[tri as usize];
-        let g = self.gap;
+        let t: [DVec3; 3] = self.occluders.points(tri).try_into().expect("a triangle's three corners");
+        let g = self.occluders.gap;
         let h = 1.0 / self.inv_cell as f64;
         // Cell `k` holds the points whose scaled offset from the origin rounds to `k` (see `cell_of`).
         let lo = dvec(self.origin) + (dvec(cell) - DVec3::splat(0.5)) * h - DVec3::splat(g);
@@ -240,26 +190,10 @@ impl ClearShadows {
             }
         });
         let hull: Vec<DVec3> = region.iter().chain(&light.points).copied().collect();
-        let hmin = hull.iter().fold(DVec3::INFINITY, |m, &p| m.min(p)) - DVec3::splat(g);
-        let hmax = hull.iter().fold(DVec3::NEG_INFINITY, |m, &p| m.max(p)) + DVec3::splat(g);
         let behind = |(pn, pd): (DVec3, f64), pts: &[DVec3]| pts.iter().all(|&v| pn.dot(v) - pd <= 0.0);
-        for (id, o) in self.occluders.iter().enumerate() {
-            if id == tri as usize || o.max.cmplt(hmin).any() || o.min.cmpgt(hmax).any() {
-                continue;
-            }
-            if behind(surface, &o.points) || light_plane.is_some_and(|lp| behind(lp, &o.points)) {
-                continue;
-            }
-            if o.points.len() == 3 && plane_separates(&o.points, &hull, g) {
-                continue;
-            }
-            if !hulls_apart(&hull, &o.points, g) {
-                return false;
-            }
-        }
-        self.planes
-            .iter()
-            .all(|&(pn, pd)| hull.iter().all(|&p| pn.dot(p) - pd > g) || hull.iter().all(|&p| pn.dot(p) - pd < -g))
+        self.occluders.hull_clear(&hull, |id, pts| {
+            id == tri || behind(surface, pts) || light_plane.is_some_and(|lp| behind(lp, pts))
+        })
     }
 }
 
@@ -269,16 +203,6 @@ impl ClearShadows {
 #[inline(always)]
 fn cell_of(origin: Vec3A, inv_cell: f32, p: Vec3A) -> Vec3A {
     (p - origin) * inv_cell + Vec3A::splat(ROUND) - Vec3A::splat(ROUND)
-}
-
-/// True when the plane of triangle `tri` leaves all of `pts` on one side, further than `g`.
-fn plane_separates(tri: &[DVec3], pts: &[DVec3], g: f64) -> bool {
-    let n = (tri[1] - tri[0]).cross(tri[2] - tri[0]).normalize_or_zero();
-    if n == DVec3::ZERO {
-        return false;
-    }
-    let d = n.dot(tri[0]);
-    pts.iter().all(|&p| n.dot(p) - d > g) || pts.iter().all(|&p| n.dot(p) - d < -g)
 }
 
 /// At most this many corners: a triangle clipped by a box's six planes.

@@ -18,9 +18,11 @@ use crate::shapes::{AnalyticShape, BezierPatch, Revolution, ShapeHit, ShapePoint
 use glam::{Vec2, Vec3, Vec3A};
 
 mod build;
+mod occluders;
 
 pub use crate::shapes::{SphereGeom, SphereTransform, sphere_point_error, sphere_uv};
 pub use build::to_f64;
+pub use occluders::{MAX_OCCLUDERS, Occluders, dvec};
 
 /// Marks "no area light" in `light` fields.
 pub const NO_LIGHT: u32 = u32::MAX;
