@@ -42,7 +42,9 @@ fn check_proofs(scene: &Scene, vertices: usize, seed: u64) -> (usize, usize, usi
             let ray = s.spawn_to(&ls);
             let occluded = scene.occluded(&ray);
             blocked += occluded as usize;
-            if sampler.proven_clear(&s, slot) {
+            // A key is proved once it has been asked often enough to be worth it: ask until it has.
+            let proven_now = (0..=200).any(|_| sampler.proven_clear(&s, slot));
+            if proven_now {
                 proven += 1;
                 assert!(
                     !occluded,

@@ -5,8 +5,9 @@
 //! and the light's points. When no primitive comes within a gap of that hull, none of those rays can be blocked,
 //! and the vertex skips the query: the answer it would have returned is known.
 //!
-//! The proof, for one key `(t, c, l)`, is computed the first time a vertex asks for it and kept
-//! ([`ClearShadows::proven_clear`]): a pure function of the key, so whichever thread computes it first, every
+//! The proof, for one key `(t, c, l)`, is computed once enough vertices have asked for it to pay (the patience,
+//! 16 queries or a quarter of the scene's primitive count if larger, up to 200; until then the rays are traced)
+//! and kept ([`ClearShadows::proven_clear`]): a pure function of the key, so whichever thread computes it first, every
 //! render of the scene makes the same choices, and since a proven ray is one the query would have found clear,
 //! the image is the one tracing every ray gives, bit for bit (tested). The proof is conservative throughout:
 //! - **the region**: the triangle clipped to the cell grown by a margin (the vertex's point and its cell index carry
@@ -23,14 +24,16 @@
 //!   analytic shapes by the corners of their boxes; infinite planes must leave the whole hull on one side.
 //!
 //! Built for triangle-set area lights of at most `MAX_LIGHT_TRIANGLES` triangles, point and spot lights (their
-//! position), in scenes of at most [`crate::primitives::MAX_OCCLUDERS`] bounded primitives (each proof scans them all); other lights,
-//! vertices on analytic shapes and larger scenes trace every shadow ray as before. The grid has `CELLS_PER_AXIS`
-//! cells along the scene's longest side.
+//! position), in scenes of at most [`crate::primitives::MAX_OCCLUDERS`] bounded primitives (each proof scans them
+//! all); other lights, vertices on analytic shapes and larger scenes trace every shadow ray as before. The grid
+//! has `CELLS_PER_AXIS` cells along the scene's longest side. The proofs of a render share a budget of primitive
+//! tests (`PROOF_BUDGET`, about a second): past it, keys stay unproven and their rays are traced, so a scene of
+//! many lights cannot spend more time proving than tracing, and the image is the same either way.
 
 use crate::lights::{AreaShape, LightSet, LightSource};
 use crate::primitives::{Occluders, Primitives, SurfaceHit, dvec};
 use glam::{DVec3, Vec3A};
-use std::sync::atomic::{AtomicU8, Ordering};
+use std::sync::atomic::{AtomicU8, AtomicU64, Ordering};
 
 /// Cells of the grid along the scene's longest side.
 const CELLS_PER_AXIS: f32 = 32.0;
@@ -39,9 +42,20 @@ const MAX_LIGHT_TRIANGLES: u32 = 16;
 /// At most this many cached proofs (one byte each); triangles past it are not covered.
 const MAX_FLAGS: usize = 1 << 22; // below 2^23: see `proven_clear`
 
-const UNKNOWN: u8 = 0;
-const CLEAR: u8 = 1;
-const MAYBE: u8 = 2;
+/// The most primitive tests all proofs of a render may take together (each proof scans every primitive): about a
+/// second of work, where the Cornell box's proofs take 190,000. A scene of many lights and triangles could
+/// otherwise ask for millions of proofs.
+const PROOF_BUDGET: u64 = 1 << 27;
+
+/// A key's flag: below `CLEAR`, the number of queries it has had unproven (its rays traced); then its proof's answer.
+const CLEAR: u8 = 254;
+const MAYBE: u8 = 255;
+/// Queries a key waits before it is proved, per bounded primitive of the scene (a proof scans them all, and a
+/// clear key saves a shadow ray per query), within `PATIENCE_MIN..=PATIENCE_MAX`: keys few vertices reach, as in
+/// a large scene at low sample counts, are never worth proving.
+const PATIENCE_PER_PRIMITIVE: f32 = 0.25;
+const PATIENCE_MIN: u8 = 16;
+const PATIENCE_MAX: u8 = 200;
 
 /// A triangle's block of cells: flag `base + l . stride + light` for cell `lo + l`, `l` below `dims` (whole
 /// numbers held as floats, so that the lookup stays in vector registers: exact below 2^24).
@@ -76,6 +90,10 @@ pub struct ClearShadows {
     flags: Vec<AtomicU8>,
     /// The scene's primitives as point sets; its gap is also the margin the cells grow by.
     occluders: Occluders,
+    /// Primitive tests taken by the proofs so far (against `PROOF_BUDGET`).
+    work: AtomicU64,
+    /// Queries a key waits before it is proved (see `PATIENCE_PER_PRIMITIVE`).
+    patience: u8,
 }
 
 impl std::fmt::Debug for ClearShadows {
@@ -119,8 +137,11 @@ impl ClearShadows {
             cells,
             lights: regions,
             slots,
-            flags: (0..total).map(|_| AtomicU8::new(UNKNOWN)).collect(),
+            flags: (0..total).map(|_| AtomicU8::new(0)).collect(),
+            patience: (occluders.len() as f32 * PATIENCE_PER_PRIMITIVE).clamp(PATIENCE_MIN as f32, PATIENCE_MAX as f32)
+                as u8,
             occluders,
+            work: AtomicU64::new(0),
         })
     }
 
@@ -139,14 +160,21 @@ impl ClearShadows {
         match flag.load(Ordering::Relaxed) {
             CLEAR => true,
             MAYBE => false,
-            _ => self.prove_and_store(flag, s.prim, local + tc.lo, slot),
+            waited if waited >= self.patience => self.prove_and_store(flag, s.prim, local + tc.lo, slot),
+            waited => {
+                // One more query traced. A count lost to another thread's at the same moment only delays the proof.
+                let _ = flag.compare_exchange(waited, waited + 1, Ordering::Relaxed, Ordering::Relaxed);
+                false
+            }
         }
     }
 
     #[cold]
     #[inline(never)]
     fn prove_and_store(&self, flag: &AtomicU8, tri: u32, cell: Vec3A, slot: usize) -> bool {
-        let clear = self.prove(tri, cell, slot);
+        // Past the budget keys are left unproven: the rays are traced, so only the time can change, never the image.
+        let within = self.work.fetch_add(self.occluders.len() as u64, Ordering::Relaxed) < PROOF_BUDGET;
+        let clear = within && self.prove(tri, cell, slot);
         flag.store(if clear { CLEAR } else { MAYBE }, Ordering::Relaxed);
         clear
     }

@@ -75,6 +75,16 @@ impl Occluders {
         })
     }
 
+    /// The number of bounded primitives.
+    pub fn len(&self) -> usize {
+        self.items.len()
+    }
+
+    /// True when the scene has no bounded primitive.
+    pub fn is_empty(&self) -> bool {
+        self.items.is_empty()
+    }
+
     /// The points of bounded primitive `id` (a triangle's three corners).
     pub fn points(&self, id: u32) -> &[DVec3] {
         &self.items[id as usize].points
