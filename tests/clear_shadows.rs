@@ -31,7 +31,7 @@ fn check_proofs(scene: &Scene, vertices: usize, seed: u64) -> (usize, usize, usi
         for _ in 0..4 {
             let n = s.ng;
             let Some((ls, slot)) =
-                sampler.sample_li_slot(&scene.lights, &scene.prims, s.p, n, rng.next_f32(), rng.next_2d())
+                sampler.sample_li(&scene.lights, &scene.prims, s.p, n, rng.next_f32(), rng.next_2d())
             else {
                 continue;
             };

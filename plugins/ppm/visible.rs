@@ -168,7 +168,7 @@ impl EyePass<'_> {
     fn direct(&self, hit: &SurfaceHit, bsdf: &Bsdf, u_choice: f32, u_light: Vec2) -> Vec3 {
         let scene = self.scene;
         let n = bsdf.normal();
-        let Some(ls) = self.lights.sample_li(&scene.lights, &scene.prims, hit.p, n, u_choice, u_light) else {
+        let Some((ls, _)) = self.lights.sample_li(&scene.lights, &scene.prims, hit.p, n, u_choice, u_light) else {
             return Vec3::ZERO;
         };
         // The BSDF is zero on the side it does not scatter to (transmissive lobes scatter to both).

@@ -15,7 +15,7 @@ pub use bounds::Bounds;
 pub use offset::{gamma, offset_ray_origin, spawn_ray, spawn_ray_to};
 pub use plane::intersect_plane;
 pub use ray::{NO_PRIM, Ray};
-pub use separation::{apart_along, hulls_apart};
+pub use separation::hulls_apart;
 pub use sphere::intersect_sphere;
 pub use triangle::{TriSoa, TriangleHit, WatertightRay};
 pub use triangle_packet::TriPacket;

@@ -19,13 +19,13 @@ pub fn hulls_apart(a: &[DVec3], b: &[DVec3], gap: f64) -> bool {
         return false;
     }
     match closest_difference(a, b) {
-        Some(v) => apart_along(a, b, v, gap) || apart_along(b, a, v, gap) || apart_along(a, b, -v, gap),
+        Some(v) => apart_along(a, b, v, gap) || apart_along(b, a, v, gap),
         None => false,
     }
 }
 
 /// True when `a` lies beyond `b` along `v`, by more than `gap` (measured along the unit direction of `v`).
-pub fn apart_along(a: &[DVec3], b: &[DVec3], v: DVec3, gap: f64) -> bool {
+fn apart_along(a: &[DVec3], b: &[DVec3], v: DVec3, gap: f64) -> bool {
     let len = v.length();
     if !(len > 0.0 && len.is_finite()) {
         return false;

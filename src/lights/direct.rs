@@ -17,7 +17,7 @@ impl LightSampler {
     #[inline(always)]
     pub fn direct_light(&self, scene: &Scene, s: &SurfaceHit, bsdf: &Bsdf, u_choice: f32, u: Vec2, mis: bool) -> Vec3 {
         let n = bsdf.normal();
-        let Some((ls, slot)) = self.sample_li_slot(&scene.lights, &scene.prims, s.p, n, u_choice, u) else {
+        let Some((ls, slot)) = self.sample_li(&scene.lights, &scene.prims, s.p, n, u_choice, u) else {
             return Vec3::ZERO;
         };
         let (f, bsdf_pdf) = bsdf.eval_pdf(ls.wi);

@@ -50,23 +50,10 @@ impl LightSampler {
     }
 
     /// Next-event estimation from point `p` (shading normal `n`, used by the cosine environment strategy): one light
-    /// chosen by power with `u_choice`, sampled with `u`. The returned pdf includes the choice probability.
+    /// chosen by power with `u_choice`, sampled with `u`; the sample and the slot of the light chosen. The returned
+    /// pdf includes the choice probability.
     #[inline(always)]
     pub fn sample_li(
-        &self,
-        lights: &LightSet,
-        prims: &Primitives,
-        p: Vec3A,
-        n: Vec3A,
-        u_choice: f32,
-        u: Vec2,
-    ) -> Option<LightSample> {
-        self.sample_li_slot(lights, prims, p, n, u_choice, u).map(|(ls, _)| ls)
-    }
-
-    /// `sample_li`, with the slot of the light chosen.
-    #[inline(always)]
-    pub fn sample_li_slot(
         &self,
         lights: &LightSet,
         prims: &Primitives,
