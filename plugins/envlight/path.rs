@@ -159,11 +159,16 @@ impl PathTracer {
             if depth >= self.params.rr_depth {
                 // Survival by throughput against a threshold, the radiance scaling of refractions undone (a path
                 // inside glass carries 1/eta^2 that its exit restores, so it is not a dimmer path).
+                // A path that survives surely (`q` = 1: most bright paths) reads no roulette number; its dimension
+                // stays reserved, so the sequence does not shift. The image is the same bit for bit, since a number
+                // in [0, 1) is never at least 1 and dividing by 1 is exact.
                 let q = survival(beta, eta2, self.params.rr_threshold, depth);
-                if sampler.get_1d(u_rr) >= q {
-                    break;
+                if q < 1.0 {
+                    if sampler.get_1d(u_rr) >= q {
+                        break;
+                    }
+                    beta /= q;
                 }
-                beta /= q;
             }
             ray = s.spawn(bs.wi);
         }
