@@ -18,7 +18,7 @@ use prism::integrator::lens_sample_index;
 use prism::sampling::{
     PixelFilter, Rng, SOBOL_BATCH, Sampler, SamplerKind, SobolBatch, nested_uniform_scramble, sobol_dim1_fast,
     sobol_dim1_reference, sobol_dim1_reversed, sobol_owen_1d_point, sobol_owen_1d_reversed, sobol_owen_2d,
-    sobol_owen_2d_batch, sobol_owen_2d_keyed, sobol_owen_2d_reference,
+    sobol_owen_2d_batch, sobol_owen_2d_keyed, sobol_owen_2d_reference, warp,
 };
 use prism::settings::Overrides;
 
@@ -508,23 +508,57 @@ fn batched_sobol_points_equal_the_one_point_function() {
     }
 }
 
+/// Sixteen cosine-weighted directions computed at once (the vector kernel, dispatched for this CPU) are the
+/// one-point function's, bit for bit: random points, the disk's centre, the square's corners and its diagonals
+/// (where the concentric map changes wedge).
+#[test]
+fn batched_cosine_directions_equal_the_one_point_function() {
+    let mut rng = Rng::new(16, 17);
+    let special = [0.0, 0.5, 1.0 - f32::EPSILON / 2.0, 0.25, 0.75, 0.5 + f32::EPSILON, 0.5 - f32::EPSILON / 2.0];
+    let pairs = special.len() * special.len();
+    for round in 0..300 {
+        let point = |l: usize, rng: &mut Rng| {
+            if round * SOBOL_BATCH < pairs {
+                let i = (round * SOBOL_BATCH + l) % pairs;
+                (special[i % special.len()], special[i / special.len()])
+            } else if l.is_multiple_of(4) {
+                let x = rng.next_f32();
+                (x, x)
+            } else {
+                (rng.next_f32(), rng.next_f32())
+            }
+        };
+        let points: Vec<(f32, f32)> = (0..SOBOL_BATCH).map(|l| point(l, &mut rng)).collect();
+        let u = [std::array::from_fn(|l| points[l].0), std::array::from_fn(|l| points[l].1)];
+        let mut out = [[0.0f32; SOBOL_BATCH]; 3];
+        warp::cosine_hemisphere_lanes(&u, &mut out);
+        for l in 0..SOBOL_BATCH {
+            let one = warp::cosine_hemisphere(Vec2::new(u[0][l], u[1][l]));
+            let lane = [out[0][l], out[1][l], out[2][l]];
+            assert_eq!(lane.map(f32::to_bits), one.to_array().map(f32::to_bits), "({}, {})", u[0][l], u[1][l]);
+        }
+    }
+}
+
 /// A sampler handed a batch's points answers with the numbers it would have computed: every request of a path
 /// of eight vertices (1D and 2D, the batched dimensions and the others) for sixteen samples, with the batch naming
 /// dimensions the path asks for, one it asks for as 1D numbers and one it never reaches. Both ways a chunk is
 /// filled: lanes from two pixels (`set_lanes` over part of the chunk) and one pixel's whole chunk (its own path).
 /// And a batch cut down to its first dimensions (`SobolBatch::keep`, as a tile does once it has seen how far its
-/// paths go): the dimensions it no longer computes are computed alone, to the same numbers.
+/// paths go): the dimensions it no longer computes are computed alone, to the same numbers. The BSDF points come
+/// with their cosine-weighted directions computed ahead, which are `warp::cosine_hemisphere`'s bit for bit.
 #[test]
 fn a_sampler_given_batched_points_gives_the_numbers_it_would_compute() {
     // Vertex v's dimensions as `envlight` draws them: 1D, 2D, 1D, 2D, 1D from 4 + 7 v.
     let dims: Vec<u32> = (0..4u32).flat_map(|v| [4 + 7 * v + 1, 4 + 7 * v + 4]).chain([7, 500]).collect();
-    let mut cut = SobolBatch::new(&dims);
+    let directions: Vec<u32> = (0..4u32).map(|v| 4 + 7 * v + 4).collect();
+    let mut cut = SobolBatch::new(&dims, &directions);
     cut.keep(0);
     assert_eq!(cut.dims(), &dims[..1], "a batch keeps at least one dimension");
     // Lanes of the first pixel; the rest are the second pixel's; all dimensions, or the first three.
     for (first_pixel_lanes, keep) in [(10, None), (SOBOL_BATCH, None), (10, Some(3)), (SOBOL_BATCH, Some(3))] {
         let mut pixels = [sobol(0xabc), sobol(0xdef)];
-        let mut batch = SobolBatch::new(&dims);
+        let mut batch = SobolBatch::new(&dims, &directions);
         if let Some(k) = keep {
             batch.keep(k);
             assert_eq!(batch.dims(), &dims[..k]);
@@ -549,9 +583,18 @@ fn a_sampler_given_batched_points_gives_the_numbers_it_would_compute() {
             }
             batch.load(lane, s);
             for v in 0..8 {
-                let a = (s.next_1d(), s.next_2d(), s.next_1d(), s.next_2d(), s.next_1d());
-                let b = (fresh.next_1d(), fresh.next_2d(), fresh.next_1d(), fresh.next_2d(), fresh.next_1d());
+                let a = (s.next_1d(), s.next_2d(), s.next_1d());
+                let b = (fresh.next_1d(), fresh.next_2d(), fresh.next_1d());
                 assert_eq!(a, b, "{first_pixel_lanes} lanes of the first pixel: lane {lane} vertex {v}");
+                let (d, u) = (s.next_direction_2d(), fresh.next_2d());
+                assert_eq!(d.u, u, "lane {lane} vertex {v}: the BSDF point");
+                let (ahead, now) = (d.cosine_hemisphere(), warp::cosine_hemisphere(u));
+                assert_eq!(
+                    ahead.to_array().map(f32::to_bits),
+                    now.to_array().map(f32::to_bits),
+                    "lane {lane} vertex {v}"
+                );
+                assert_eq!(s.next_1d(), fresh.next_1d());
             }
         }
     }

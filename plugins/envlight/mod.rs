@@ -123,4 +123,8 @@ impl PixelIntegrator for Envlight {
     fn batched_2d_dims(&self) -> Vec<u32> {
         self.tracer.as_ref().map_or(Vec::new(), |t| t.batched_2d_dims())
     }
+
+    fn batched_direction_dims(&self) -> Vec<u32> {
+        self.tracer.as_ref().map_or(Vec::new(), |t| t.batched_direction_dims())
+    }
 }

@@ -71,6 +71,11 @@ impl PixelIntegrator for PathTracer {
         };
         (0..vertices).flat_map(|v| [CAMERA_DIMENSIONS + 7 * v + 1, CAMERA_DIMENSIONS + 7 * v + 4]).collect()
     }
+
+    /// The BSDF points of `batched_2d_dims` (offset 4 of each vertex's seven dimensions).
+    fn batched_direction_dims(&self) -> Vec<u32> {
+        self.batched_2d_dims().into_iter().skip(1).step_by(2).collect()
+    }
 }
 
 /// Path vertices whose Sobol points `PerPixel` may compute ahead for a packet's samples (`batched_2d_dims`; each tile
@@ -96,7 +101,7 @@ impl PathTracer {
             // (2-3% on the box scenes, 1% on `env_sphere`, where more paths end in the sky and draw them for nothing;
             // the same numbers, so the same images). The 1D numbers are computed only if used.
             let (u_choice, u_light) = (sampler.defer_1d(), sampler.next_2d());
-            let (u_lobe, u_bsdf) = (sampler.defer_1d(), sampler.next_2d());
+            let (u_lobe, u_bsdf) = (sampler.defer_1d(), sampler.next_direction_2d());
             let u_rr = sampler.defer_1d();
             // One copy of the hit record's construction for the camera's hit and every later one (inlined here,
             // where `Scene::trace` would build it out of line and move it).
@@ -148,7 +153,7 @@ impl PathTracer {
                 l += beta * self.lights.direct_light(scene, &s, &bsdf, uc, u_light, self.params.mis);
             }
             let ul = if bsdf.uses_lobe_number() { sampler.get_1d(u_lobe) } else { 0.0 };
-            let Some(bs) = bsdf.sample(ul, u_bsdf) else { break };
+            let Some(bs) = bsdf.sample_point(ul, u_bsdf) else { break };
             beta *= bs.weight;
             eta2 *= bs.eta * bs.eta;
             if beta.max_element() <= 0.0 {

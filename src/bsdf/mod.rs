@@ -23,6 +23,7 @@ pub mod microfacet;
 pub use lobe::{ConductorFresnel, Lobe, LobeSample};
 
 use crate::math::Frame;
+use crate::sampling::DirectionPoint;
 use glam::{Vec2, Vec3, Vec3A};
 
 /// Most lobes one BSDF holds (checked when a material is loaded).
@@ -392,13 +393,30 @@ impl Bsdf {
         self.sample_mode(u_lobe, u, TransportMode::Radiance)
     }
 
+    /// [`Bsdf::sample`] with the direction's point as the sampler gave it: a lone Lambertian lobe takes its
+    /// cosine-weighted direction from it, computed ahead where it was (the same direction either way).
+    #[inline(always)]
+    pub fn sample_point(&self, u_lobe: f32, p: DirectionPoint) -> Option<BsdfSample> {
+        if self.len == 1
+            && let Lobe::Diffuse { albedo } = self.lobes[0]
+        {
+            return self.sample_lambert_from(albedo, p.cosine_hemisphere(), TransportMode::Radiance);
+        }
+        self.sample_general(u_lobe, p.u, TransportMode::Radiance)
+    }
+
     /// The common case, a lone Lambertian lobe of `albedo`: cosine sampling, weight = albedo exactly.
     #[inline(always)]
     fn sample_lambert(&self, albedo: Vec3, u: Vec2, mode: TransportMode) -> Option<BsdfSample> {
+        self.sample_lambert_from(albedo, crate::sampling::warp::cosine_hemisphere(u), mode)
+    }
+
+    /// [`Bsdf::sample_lambert`] with the local direction `wl = cosine_hemisphere(u)` given.
+    #[inline(always)]
+    fn sample_lambert_from(&self, albedo: Vec3, wl: Vec3A, mode: TransportMode) -> Option<BsdfSample> {
         if self.wo_local.z <= 0.0 {
             return None;
         }
-        let wl = crate::sampling::warp::cosine_hemisphere(u);
         let wi = self.frame.to_world(wl);
         if !self.consistent(wi, wl) {
             return None;

@@ -153,4 +153,11 @@ pub trait PixelIntegrator: Send + Sync {
     fn batched_2d_dims(&self) -> Vec<u32> {
         Vec::new()
     }
+
+    /// Those of [`PixelIntegrator::batched_2d_dims`] that it asks for as BSDF directions
+    /// ([`Sampler::next_direction_2d`]): the batch computes their cosine-weighted hemisphere directions too. By
+    /// default none.
+    fn batched_direction_dims(&self) -> Vec<u32> {
+        Vec::new()
+    }
 }

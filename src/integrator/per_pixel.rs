@@ -88,6 +88,8 @@ pub struct PerPixel<T> {
     /// The Sobol dimensions a chunk of camera-ray packets computes together ([`SobolBatch`]): the pixel
     /// position's, then those the estimator names ([`PixelIntegrator::batched_2d_dims`]); set by `prepare`.
     batch_dims: Vec<u32>,
+    /// Those of `batch_dims` the estimator asks for as BSDF directions ([`PixelIntegrator::batched_direction_dims`]).
+    direction_dims: Vec<u32>,
 }
 
 /// One pixel's samples in a pass, and their sums so far.
@@ -115,7 +117,7 @@ struct TileOut {
 impl<T: PixelIntegrator> PerPixel<T> {
     /// The integrator that renders `estimator` per pixel.
     pub fn new(estimator: T) -> Self {
-        PerPixel { estimator, allocation: None, batch_dims: Vec::new() }
+        PerPixel { estimator, allocation: None, batch_dims: Vec::new(), direction_dims: Vec::new() }
     }
 
     /// Pixel `(x, y)`'s samples in this pass: its sampler, the range of its sequence, and the set an explicit
@@ -193,7 +195,7 @@ impl<T: PixelIntegrator> PerPixel<T> {
         let mut owner = [(0usize, 0u64); PACKET];
         // With packets, the chunk's Sobol points are computed together ([`SobolBatch`]): the pixel position (the
         // batch's first dimension) and those the estimator asks for at its first vertices.
-        let mut batch = SobolBatch::new(if packets { &self.batch_dims } else { &[] });
+        let mut batch = SobolBatch::new(if packets { &self.batch_dims } else { &[] }, &self.direction_dims);
         // How many of the tile's first samples reached each batched dimension: once `BATCH_WARMUP` samples are in,
         // the batch keeps only the dimensions most samples reach (see `BATCH_REACH`).
         let mut reach = [0u32; crate::sampling::MAX_BATCH_DIMS];
@@ -357,6 +359,7 @@ impl<T: PixelIntegrator> Integrator for PerPixel<T> {
         self.allocation = None;
         self.estimator.prepare(scene, settings)?;
         self.batch_dims = [0].into_iter().chain(self.estimator.batched_2d_dims()).collect();
+        self.direction_dims = self.estimator.batched_direction_dims();
         Ok(())
     }
 

@@ -9,10 +9,16 @@
 //! before asking for it is wasted work, so an estimator names those paths may reach, and each tile, once its first
 //! samples show how far its paths go, keeps computing only the dimensions at least half of them reached
 //! ([`SobolBatch::keep`]; short paths, such as an open scene's whose rays escape, keep three or five of thirteen).
+//!
+//! The dimensions the estimator asks for as BSDF directions
+//! ([`crate::integrator::PixelIntegrator::batched_direction_dims`]) also get their cosine-weighted hemisphere
+//! directions computed here, sixteen lanes at once (`warp::cosine_hemisphere_lanes`, the same bits as the one-point
+//! map): a Lambertian vertex then takes its direction ready-made, and the concentric map's division and polynomial
+//! leave the chain from one hit to the next ray (the Cornell box renders about 5% faster, the same image).
 
 use super::sampler::Sampler;
 use super::sobol::{SOBOL_BATCH, sobol_owen_2d_batch};
-use glam::Vec2;
+use glam::{Vec2, Vec3A};
 
 /// The most 2D dimensions a batch computes per sample.
 pub const MAX_BATCH_DIMS: usize = 16;
@@ -24,21 +30,28 @@ pub struct SobolBatch {
     index_rev: [u32; SOBOL_BATCH],
     keys: [[[u32; SOBOL_BATCH]; 3]; MAX_BATCH_DIMS],
     points: [[[f32; SOBOL_BATCH]; 2]; MAX_BATCH_DIMS],
+    /// Bit `k`: the `k`-th dimension's points are BSDF directions, whose cosine-weighted hemisphere directions
+    /// (`warp::cosine_hemisphere`) the batch computes too, into `dirs[k]`.
+    dir_mask: u16,
+    dirs: [[[f32; SOBOL_BATCH]; 3]; MAX_BATCH_DIMS],
 }
 
 impl SobolBatch {
     /// A batch for the 2D requests at dimensions `dims` (ascending, the order an estimator asks for them; the first
     /// [`MAX_BATCH_DIMS`] are kept).
-    pub fn new(dims: &[u32]) -> Self {
+    pub fn new(dims: &[u32], direction_dims: &[u32]) -> Self {
         let n = dims.len().min(MAX_BATCH_DIMS);
         let mut d = [0; MAX_BATCH_DIMS];
         d[..n].copy_from_slice(&dims[..n]);
+        let dir_mask = (0..n).filter(|&k| direction_dims.contains(&d[k])).fold(0u16, |m, k| m | 1 << k);
         SobolBatch {
             dims: d,
             n,
             index_rev: [0; SOBOL_BATCH],
             keys: [[[0; SOBOL_BATCH]; 3]; MAX_BATCH_DIMS],
             points: [[[0.0; SOBOL_BATCH]; 2]; MAX_BATCH_DIMS],
+            dir_mask,
+            dirs: [[[0.0; SOBOL_BATCH]; 3]; MAX_BATCH_DIMS],
         }
     }
 
@@ -86,6 +99,11 @@ impl SobolBatch {
     #[inline]
     pub fn compute(&mut self) {
         sobol_owen_2d_batch(&self.index_rev, &self.keys[..self.n], &mut self.points[..self.n]);
+        for k in 0..self.n {
+            if self.dir_mask & (1 << k) != 0 {
+                crate::sampling::warp::cosine_hemisphere_lanes(&self.points[k], &mut self.dirs[k]);
+            }
+        }
     }
 
     /// Lane `lane`'s sample index bit-reversed, as [`Sampler::start_reversed`] takes it (set by `set_lanes`).
@@ -106,6 +124,15 @@ impl SobolBatch {
     pub fn load(&self, lane: usize, sampler: &mut Sampler) {
         let dims = &self.dims[..self.n];
         let first = dims.partition_point(|&d| d < sampler.dimension());
-        sampler.preload_2d(&dims[first..], |k| self.point(lane, first + k));
+        let dirs = |k: usize| {
+            let d = &self.dirs[first + k];
+            Vec3A::new(d[0][lane], d[1][lane], d[2][lane])
+        };
+        sampler.preload_2d(
+            &dims[first..],
+            |k| self.point(lane, first + k),
+            self.dir_mask.checked_shr(first as u32).unwrap_or(0),
+            dirs,
+        );
     }
 }

@@ -19,7 +19,7 @@ pub use mis::power_heuristic;
 pub use pattern::PixelPattern;
 pub use permute::permute;
 pub use rng::{Rng, hash_u64};
-pub use sampler::{CAMERA_DIMENSIONS, Deferred1d, Sampler, SamplerKind};
+pub use sampler::{CAMERA_DIMENSIONS, Deferred1d, DirectionPoint, Sampler, SamplerKind};
 pub use sobol::{
     SOBOL_BATCH, nested_uniform_scramble, sobol_dim1_fast, sobol_dim1_reference, sobol_dim1_reversed,
     sobol_owen_1d_point, sobol_owen_1d_reversed, sobol_owen_2d, sobol_owen_2d_batch, sobol_owen_2d_keyed,

@@ -26,7 +26,7 @@
 use super::Rng;
 use super::batch::MAX_BATCH_DIMS;
 use super::sobol::{hash32, scramble_keys_2d, sobol_owen_1d_point, sobol_owen_2d_keyed};
-use glam::Vec2;
+use glam::{Vec2, Vec3A};
 use multiversion::multiversion;
 
 /// Which sampler fills the dimensions of a sample.
@@ -100,8 +100,38 @@ pub struct Sampler {
     /// `next_2d` may answer from here. Emptied by `start`.
     pre_dims: [u32; MAX_BATCH_DIMS],
     pre: [Vec2; MAX_BATCH_DIMS],
+    /// Bit `k`: `pre_dir[k]` is `pre[k]`'s cosine-weighted hemisphere direction, computed ahead too.
+    pre_dir_mask: u16,
+    pre_dir: [Vec3A; MAX_BATCH_DIMS],
     pre_len: u8,
     pre_next: u8,
+}
+
+/// A 2D point for a BSDF direction, with its cosine-weighted hemisphere direction where a
+/// [`SobolBatch`](super::SobolBatch) computed it ahead ([`Sampler::next_direction_2d`]).
+#[derive(Clone, Copy, Debug)]
+pub struct DirectionPoint {
+    /// The point in [0, 1)^2.
+    pub u: Vec2,
+    /// `warp::cosine_hemisphere(u)`, if known.
+    cosine: Option<Vec3A>,
+}
+
+impl DirectionPoint {
+    /// A point whose direction is computed when asked for.
+    #[inline(always)]
+    pub fn new(u: Vec2) -> Self {
+        DirectionPoint { u, cosine: None }
+    }
+
+    /// `warp::cosine_hemisphere(self.u)`: computed ahead or now (the same bits).
+    #[inline(always)]
+    pub fn cosine_hemisphere(&self) -> Vec3A {
+        match self.cosine {
+            Some(d) => d,
+            None => super::warp::cosine_hemisphere(self.u),
+        }
+    }
 }
 
 /// The scramble seed of dimension `dim` of the pixel (or photon batch) whose key is `key`.
@@ -154,6 +184,8 @@ impl Sampler {
             keys_2d: [[0; 4]; KEY_SLOTS],
             pre_dims: [0; MAX_BATCH_DIMS],
             pre: [Vec2::ZERO; MAX_BATCH_DIMS],
+            pre_dir_mask: 0,
+            pre_dir: [Vec3A::ZERO; MAX_BATCH_DIMS],
             pre_len: 0,
             pre_next: 0,
         }
@@ -187,15 +219,28 @@ impl Sampler {
     }
 
     /// Hand the current sample the 2D points computed ahead for dimensions `dims` (in the order they will be asked
-    /// for; at most [`MAX_BATCH_DIMS`]): `point(k)` is dimension `dims[k]`'s. `next_2d` answers a request for
+    /// for; at most [`MAX_BATCH_DIMS`]): `point(k)` is dimension `dims[k]`'s, and where bit `k` of `dir_mask` is set
+    /// `dir(k)` is its cosine-weighted hemisphere direction. `next_2d` and `next_direction_2d` answer a request for
     /// such a dimension from here, which is the number it would have computed (other samplers ignore them).
     #[inline(always)]
-    pub(super) fn preload_2d(&mut self, dims: &[u32], point: impl Fn(usize) -> Vec2) {
+    pub(super) fn preload_2d(
+        &mut self,
+        dims: &[u32],
+        point: impl Fn(usize) -> Vec2,
+        dir_mask: u16,
+        dir: impl Fn(usize) -> Vec3A,
+    ) {
         // Only the Sobol sampler's numbers are these points; the others keep drawing their own.
         let n = if self.kind == SamplerKind::Sobol { dims.len().min(MAX_BATCH_DIMS) } else { 0 };
         self.pre_dims[..n].copy_from_slice(&dims[..n]);
         for (k, p) in self.pre[..n].iter_mut().enumerate() {
             *p = point(k);
+        }
+        self.pre_dir_mask = dir_mask;
+        for k in 0..n {
+            if dir_mask & (1 << k) != 0 {
+                self.pre_dir[k] = dir(k);
+            }
         }
         self.pre_len = n as u8;
         self.pre_next = 0;
@@ -309,6 +354,22 @@ impl Sampler {
             return self.pre[k];
         }
         self.next_2d_computed()
+    }
+
+    /// [`Sampler::next_2d`] for a BSDF direction: the point, and its cosine-weighted direction where it was computed
+    /// ahead with it.
+    #[inline(always)]
+    pub fn next_direction_2d(&mut self) -> DirectionPoint {
+        let dim = self.dim;
+        let k = self.pre_next as usize;
+        if k < self.pre_len as usize && self.pre_dims[k] == dim {
+            self.dim += 2;
+            self.requests_2d += 1;
+            self.pre_next += 1;
+            let cosine = (self.pre_dir_mask & (1 << k) != 0).then_some(self.pre_dir[k]);
+            return DirectionPoint { u: self.pre[k], cosine };
+        }
+        DirectionPoint::new(self.next_2d_computed())
     }
 
     /// `next_2d` for a point not computed ahead.
