@@ -122,17 +122,12 @@ impl SobolBatch {
     /// that lane's sample (`Sampler::start`) and drawn what it drew before them.
     #[inline(always)]
     pub fn load(&self, lane: usize, sampler: &mut Sampler) {
-        let dims = &self.dims[..self.n];
-        let first = dims.partition_point(|&d| d < sampler.dimension());
-        let dirs = |k: usize| {
-            let d = &self.dirs[first + k];
+        let first = self.dims[..self.n].partition_point(|&d| d < sampler.dimension());
+        let point = |k: usize| self.point(lane, k);
+        let dir = |k: usize| {
+            let d = &self.dirs[k];
             Vec3A::new(d[0][lane], d[1][lane], d[2][lane])
         };
-        sampler.preload_2d(
-            &dims[first..],
-            |k| self.point(lane, first + k),
-            self.dir_mask.checked_shr(first as u32).unwrap_or(0),
-            dirs,
-        );
+        sampler.preload_2d(&self.dims, (first, self.n), point, self.dir_mask, dir);
     }
 }

@@ -95,9 +95,9 @@ pub struct Sampler {
     /// pixel's first sample and reused by the rest. Slot `(dim / 2) % KEY_SLOTS` holds the three keys and `dim + 1`
     /// (0: empty); a dimension whose slot holds another recomputes its keys.
     keys_2d: [[u32; 4]; KEY_SLOTS],
-    /// 2D points of the current sample computed ahead by a [`SobolBatch`](super::SobolBatch): `pre_dims[k]`'s
-    /// point is `pre[k]`, for `k < pre_len`, in the order the estimator asks for them; `pre_next` is the next one
-    /// `next_2d` may answer from here. Emptied by `start`.
+    /// 2D points of the current sample computed ahead by a [`SobolBatch`](super::SobolBatch), indexed as the
+    /// batch's dimensions: `pre_dims[k]`'s point is `pre[k]`, for `pre_next <= k < pre_len`, in the order the
+    /// estimator asks for them; `pre_next` is the next one `next_2d` may answer from here. Emptied by `start`.
     pre_dims: [u32; MAX_BATCH_DIMS],
     pre: [Vec2; MAX_BATCH_DIMS],
     /// Bit `k`: `pre_dir[k]` is `pre[k]`'s cosine-weighted hemisphere direction, computed ahead too.
@@ -218,32 +218,30 @@ impl Sampler {
         cached_keys_2d(&mut self.keys_2d, dim, self.key)
     }
 
-    /// Hand the current sample the 2D points computed ahead for dimensions `dims` (in the order they will be asked
-    /// for; at most [`MAX_BATCH_DIMS`]): `point(k)` is dimension `dims[k]`'s, and where bit `k` of `dir_mask` is set
-    /// `dir(k)` is its cosine-weighted hemisphere direction. `next_2d` and `next_direction_2d` answer a request for
-    /// such a dimension from here, which is the number it would have computed (other samplers ignore them).
+    /// Hand the current sample the 2D points computed ahead for dimensions `dims[first..len]` (ascending, in the
+    /// order they will be asked for): `point(k)` is dimension `dims[k]`'s, and where bit `k` of `dir_mask` is set
+    /// `dir(k)` is its cosine-weighted hemisphere direction (read for every `k`, used only there). `next_2d` and
+    /// `next_direction_2d` answer a request for such a dimension from here, which is the number it would have
+    /// computed (other samplers ignore them). Whole arrays and a loop without branches: this runs once per sample.
     #[inline(always)]
     pub(super) fn preload_2d(
         &mut self,
-        dims: &[u32],
+        dims: &[u32; MAX_BATCH_DIMS],
+        (first, len): (usize, usize),
         point: impl Fn(usize) -> Vec2,
         dir_mask: u16,
         dir: impl Fn(usize) -> Vec3A,
     ) {
         // Only the Sobol sampler's numbers are these points; the others keep drawing their own.
-        let n = if self.kind == SamplerKind::Sobol { dims.len().min(MAX_BATCH_DIMS) } else { 0 };
-        self.pre_dims[..n].copy_from_slice(&dims[..n]);
-        for (k, p) in self.pre[..n].iter_mut().enumerate() {
-            *p = point(k);
+        let len = if self.kind == SamplerKind::Sobol { len.min(MAX_BATCH_DIMS) } else { 0 };
+        self.pre_dims = *dims;
+        for k in first..len {
+            self.pre[k] = point(k);
+            self.pre_dir[k] = dir(k);
         }
         self.pre_dir_mask = dir_mask;
-        for k in 0..n {
-            if dir_mask & (1 << k) != 0 {
-                self.pre_dir[k] = dir(k);
-            }
-        }
-        self.pre_len = n as u8;
-        self.pre_next = 0;
+        self.pre_len = len as u8;
+        self.pre_next = first.min(len) as u8;
     }
 
     /// Skip one 2D request (its dimensions are drawn elsewhere, e.g. pixel positions by an explicit pattern).
