@@ -342,16 +342,8 @@ impl Sampler {
     /// A point in [0, 1)^2.
     #[inline(always)]
     pub fn next_2d(&mut self) -> Vec2 {
-        let dim = self.dim;
-        let k = self.pre_next as usize;
-        if k < self.pre_len as usize && self.pre_dims[k] == dim {
-            // Computed ahead (a Sobol sampler handed a batch's points).
-            self.dim += 2;
-            self.requests_2d += 1;
-            self.pre_next += 1;
-            return self.pre[k];
-        }
-        self.next_2d_computed()
+        // The direction part is never read here, so it compiles away.
+        self.next_direction_2d().u
     }
 
     /// [`Sampler::next_2d`] for a BSDF direction: the point, and its cosine-weighted direction where it was computed
@@ -361,6 +353,7 @@ impl Sampler {
         let dim = self.dim;
         let k = self.pre_next as usize;
         if k < self.pre_len as usize && self.pre_dims[k] == dim {
+            // Computed ahead (a Sobol sampler handed a batch's points).
             self.dim += 2;
             self.requests_2d += 1;
             self.pre_next += 1;
