@@ -33,7 +33,9 @@ with a message):
     (default two configs: `--integrator "envlight(max_depth: D)"`, D the reference's, and the same with
     `--adaptive`); time = the render time Prism prints
     (set-up excluded, like Mitsuba's load), and the process's wall time too. Also at --prism-extra-spp (default 4x
-    the largest spp), so that Prism's curve reaches the peer's lowest error without extrapolation.
+    the largest spp, so that Prism's curve reaches the peer's lowest error without extrapolation, and 5/8 and 3/4
+    of each spp, where Prism's adaptive renders reach the peer's error: the time to it is then interpolated over a
+    step of 1.2-1.6x in spp instead of the 4x between two of the peer's counts).
   - For each repetition and each spp the renderers run back to back, the order alternating, so a machine whose
     speed drifts slows all alike. Seeds differ per repetition. Each Prism run executes a fresh copy of the binary
     (the same bytes run from two files differed by up to 15%: where the page cache put the executable).
@@ -372,8 +374,8 @@ def parse_args():
     ap.add_argument("--scenes", default=",".join(SCENES), help="comma-separated reference names (default: all)")
     ap.add_argument("--spp", default="16,64,256", help="spp list for both renderers (ldsampler: 4^k only)")
     ap.add_argument("--prism-extra-spp", default="auto",
-                    help="extra spp for Prism only, to bracket the peer's lowest error (default: 4x the largest "
-                         "--spp; '' for none)")
+                    help="extra spp for Prism only, to bracket the peer's errors closely (default: 4x the largest "
+                         "--spp, and 5/8 and 3/4 of each; '' for none)")
     ap.add_argument("--reps", type=int, default=3, help="repetitions (default 3)")
     ap.add_argument("--threads", type=int, default=2, help="threads for both renderers (default 2)")
     ap.add_argument("--prism", action="append", metavar="LABEL=ARGS",
@@ -412,7 +414,11 @@ def parse_args():
     try:
         a.spp = sorted({int(s) for s in a.spp.split(",") if s})
         extra = a.prism_extra_spp
-        a.prism_extra_spp = [4 * a.spp[-1]] if extra == "auto" else sorted({int(s) for s in extra.split(",") if s})
+        if extra == "auto":
+            between = {max(1, round(s * f)) for s in a.spp for f in (0.625, 0.75)}
+            a.prism_extra_spp = sorted(({4 * a.spp[-1]} | between) - set(a.spp))
+        else:
+            a.prism_extra_spp = sorted({int(s) for s in extra.split(",") if s})
     except (ValueError, IndexError):
         sys.exit("error: --spp and --prism-extra-spp take comma-separated positive integers")
     if not a.spp or min(a.spp) < 1 or a.reps < 1 or a.threads < 1:
