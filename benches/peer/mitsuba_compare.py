@@ -9,6 +9,9 @@ A quick check that everything works (under a minute after the one-time set-up):
 
     python3 benches/peer/mitsuba_compare.py --scenes cornell --spp 4,16 --reps 1 --prism-extra-spp ''
 
+Beside this file: peer_setup.py (the set-up below, run by the system Python) and equal_error.py (the ratios, their
+intervals and the tables, also behind `--summarize`).
+
 Set-up (automatic, once; everything under target/peer/, which git ignores): a venv with `mitsuba==3.9.1` (the
 references' version) and numpy from PyPI; Debian's `libllvm19` fetched with `apt-get download` and unpacked with
 `dpkg -x` (Mitsuba's `llvm_ad_rgb` variant loads it through DRJIT_LIBLLVM_PATH); Prism built with `cargo build
@@ -65,29 +68,23 @@ lighting and the first bounce ray; ...). Output mitsuba_cost_by_depth.md:
     python3 benches/peer/mitsuba_compare.py --scenes cornell --spp 64 --reps 3 --cost-by-depth 1,2,3,8
 """
 import argparse
-import hashlib
-import json
 import math
 import os
 import re
 import shlex
 import shutil
-import statistics
-import subprocess
 import sys
 import tempfile
 import time
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[2]
-REFS = ROOT.parent / "shared" / "refs"
-PEER = ROOT / "target" / "peer"
+# The set-up (system Python) and the ratios and tables live beside this file.
+from equal_error import read_raw, summarize
+from peer_setup import PEER, PGO_BINARY, PLAIN_BINARY, REFS, ROOT, bootstrap, log, run
+
 # Mitsuba 3's samplers the harness can time, and those of them `--peer-rr-depth` applies to (the low-discrepancy ones).
 PEER_SAMPLERS = ("ldsampler", "independent", "multijitter", "stratified", "orthogonal")
 RR_SAMPLERS = ("ldsampler", "multijitter")
-VENV = PEER / "venv"
-LLVM_DIR = PEER / "llvm19"
-MITSUBA_VERSION = "3.9.1"
 
 # name: (Prism scene, path max_depth of the reference (Mitsuba semantics: segments; -1 unlimited))
 SCENES = {
@@ -98,97 +95,6 @@ SCENES = {
     "textured": ("scenes/textured.ron", 8),
     "furnace": ("scenes/furnace.ron", -1),
 }
-
-
-def log(msg):
-    print(msg, file=sys.stderr, flush=True)
-
-
-def run(cmd, **kw):
-    r = subprocess.run(cmd, capture_output=True, text=True, **kw)
-    if r.returncode != 0:
-        sys.exit(f"error: {' '.join(map(str, cmd))} failed ({r.returncode}):\n{r.stderr.strip()[-2000:]}")
-    return r
-
-
-# ---------------------------------------------------------------- set-up (system Python)
-
-def libllvm_path():
-    hits = sorted(LLVM_DIR.glob("usr/lib/*/libLLVM.so.19*")) + sorted(LLVM_DIR.glob("usr/lib/*/libLLVM-19.so*"))
-    return hits[0] if hits else None
-
-
-PGO_BINARY = ROOT / "target" / "pgo" / "prism"
-
-
-PGO_SOURCES_HASH = PGO_BINARY.with_name("prism.sources-sha256")
-
-
-def pgo_sources():
-    """The files the binary is built from, in a fixed order."""
-    return sorted([ROOT / "Cargo.toml", ROOT / "Cargo.lock", *(ROOT / "src").rglob("*.rs"),
-                   *(ROOT / "plugins").rglob("*.rs")])
-
-
-def pgo_sources_hash():
-    """SHA-256 over the sources' paths and contents: equal when the code is, whatever the files' times."""
-    h = hashlib.sha256()
-    for f in pgo_sources():
-        if f.exists():
-            h.update(str(f.relative_to(ROOT)).encode() + b"\0" + f.read_bytes() + b"\0")
-    return h.hexdigest()
-
-
-def pgo_up_to_date():
-    """True when target/pgo/prism exists and was built from today's sources: the hash the script recorded after
-    its last build matches (a `git checkout` that rewrites files without changing them does not force a rebuild);
-    without a recorded hash (a build run by hand), when it is newer than every source file."""
-    if not PGO_BINARY.exists():
-        return False
-    if PGO_SOURCES_HASH.exists():
-        return PGO_SOURCES_HASH.read_text().strip() == pgo_sources_hash()
-    built = PGO_BINARY.stat().st_mtime
-    return all(f.stat().st_mtime <= built for f in pgo_sources() if f.exists())
-
-
-def build_pgo():
-    """Run benches/pgo/build.sh and record the hash of the sources it built from (taken before it starts)."""
-    digest = pgo_sources_hash()
-    PGO_SOURCES_HASH.unlink(missing_ok=True)
-    log("benches/pgo/build.sh (the profile-guided binary, about 5 minutes) ...")
-    run([str(ROOT / "benches" / "pgo" / "build.sh")], cwd=ROOT)
-    PGO_SOURCES_HASH.write_text(digest + "\n")
-
-
-def bootstrap():
-    """Create the venv and unpack libLLVM 19 if needed, build Prism, then re-run this script in the venv."""
-    PEER.mkdir(parents=True, exist_ok=True)
-    py = VENV / "bin" / "python"
-    if not py.exists():
-        log(f"creating {VENV.relative_to(ROOT)} ...")
-        run([sys.executable, "-m", "venv", str(VENV)])
-    if run([str(py), "-m", "pip", "list", "--format=freeze"]).stdout.find(f"mitsuba=={MITSUBA_VERSION}") < 0:
-        log(f"pip install mitsuba=={MITSUBA_VERSION} numpy ...")
-        run([str(py), "-m", "pip", "install", "--quiet", f"mitsuba=={MITSUBA_VERSION}", "numpy"])
-    if libllvm_path() is None:
-        deb_dir = PEER / "deb"
-        deb_dir.mkdir(exist_ok=True)
-        log("apt-get download libllvm19 ...")
-        if subprocess.run(["apt-get", "download", "libllvm19"], cwd=deb_dir, capture_output=True).returncode != 0:
-            run(["apt-get", "update"])
-            run(["apt-get", "download", "libllvm19"], cwd=deb_dir)
-        debs = sorted(deb_dir.glob("libllvm19_*.deb"))
-        if not debs:
-            sys.exit("error: apt-get download libllvm19 produced no .deb")
-        run(["dpkg", "-x", str(debs[-1]), str(LLVM_DIR)])
-        if libllvm_path() is None:
-            sys.exit(f"error: no libLLVM.so.19 under {LLVM_DIR}")
-    log("cargo build --release ...")
-    run(["cargo", "build", "--release", "--quiet"], cwd=ROOT)
-    if "--pgo" in sys.argv[1:] and not pgo_up_to_date():
-        build_pgo()
-    env = dict(os.environ, DRJIT_LIBLLVM_PATH=str(libllvm_path()), PRISM_PEER_IN_VENV="1")
-    os.execve(str(py), [str(py), str(Path(__file__).resolve()), *sys.argv[1:]], env)
 
 
 # ---------------------------------------------------------------- Mitsuba (inside the venv)
@@ -327,46 +233,6 @@ def rmse(img, ref):
     return float(np.sqrt(np.mean((np.asarray(img, dtype=np.float64) - ref) ** 2)))
 
 
-def time_to_error(points, target):
-    """Time at which the (time, error) curve reaches `target`, interpolated in log-log between the first pair of
-    points (in time order) that brackets it, as src/converge.rs::time_to_error; outside the curve's range,
-    extrapolated from the nearest segment. Returns (time, extrapolated) or (None, False)."""
-    import math
-    pts = sorted((t, e) for t, e in points if t > 0 and e > 0)
-    if not pts or not target > 0:
-        return None, False
-
-    def along(p0, p1):
-        (t0, e0), (t1, e1) = p0, p1
-        if e0 == e1:
-            return t0
-        a = (math.log(target) - math.log(e0)) / (math.log(e1) - math.log(e0))
-        return math.exp(math.log(t0) + a * (math.log(t1) - math.log(t0)))
-
-    for p0, p1 in zip(pts, pts[1:]):
-        if p0[1] >= target >= p1[1]:
-            return along(p0, p1), False
-    if len(pts) < 2:
-        return None, False
-    seg = (pts[-2], pts[-1]) if target < pts[-1][1] else (pts[0], pts[1])
-    if seg[1][1] >= seg[0][1]:  # the segment does not fall: no meaningful extrapolation
-        return None, False
-    return along(*seg), True
-
-
-def noise_of(name):
-    j = REFS / f"{name}.json"
-    return json.loads(j.read_text()).get("noise_rmse_estimate") if j.exists() else None
-
-
-def corrected(e, noise):
-    return (max(e * e - noise * noise, (0.05 * e) ** 2)) ** 0.5
-
-
-def spread(vals):
-    return f"{statistics.median(vals):.3g} ({min(vals):.3g}-{max(vals):.3g})" if vals else "-"
-
-
 # ---------------------------------------------------------------- the measurement
 
 def parse_args():
@@ -458,7 +324,6 @@ def parse_args():
     return a
 
 
-PLAIN_BINARY = ROOT / "target" / "release" / "prism"
 
 
 def is_ld(spp):
@@ -545,155 +410,6 @@ def measure(a):
     return rows, versions
 
 
-def read_raw(path):
-    """The rows of a mitsuba_compare_raw.csv, as `measure` returns them."""
-    import csv
-    try:
-        with open(path, newline="") as f:
-            return [dict(scene=r["scene"], renderer=r["renderer"], spp=int(r["spp"]), rep=int(r["rep"]),
-                         seed=int(r["seed"]), seconds=float(r["seconds"]), wall=float(r["wall_seconds"]),
-                         rmse=float(r["rmse"]), msps=float(r["msamples_per_s"])) for r in csv.DictReader(f)]
-    except (OSError, KeyError, ValueError) as e:
-        sys.exit(f"error: {path}: not a mitsuba_compare_raw.csv ({e})")
-
-
-def summarize(a, rows, versions):
-    raw = ["scene,renderer,spp,rep,seed,seconds,wall_seconds,rmse,msamples_per_s"]
-    raw += [f"{r['scene']},{r['renderer']},{r['spp']},{r['rep']},{r['seed']},{r['seconds']:.4f},{r['wall']:.4f},"
-            f"{r['rmse']:.6g},{r['msps']:.4f}" for r in rows]
-    (a.out / "mitsuba_compare_raw.csv").write_text("\n".join(raw) + "\n")
-    scenes = list(dict.fromkeys(r["scene"] for r in rows))
-    md = [f"Prism vs {', '.join(sorted(versions))}; Prism {a.threads} threads; {a.reps} repetition(s), "
-          f"interleaved; time: median (min-max), RMSE: mean over repetitions.", "",
-          "| scene | renderer | spp | time s | Prism wall s | RMSE | Msamples/s |", "|---|---|---:|---:|---:|---:|---:|"]
-    curves = {}  # (scene, renderer) -> {spp: [rows]}
-    for r in rows:
-        curves.setdefault((r["scene"], r["renderer"]), {}).setdefault(r["spp"], []).append(r)
-    for (scene, rend), by_spp in curves.items():
-        for spp, rs in sorted(by_spp.items()):
-            t = [x["seconds"] for x in rs]
-            wall = spread([x["wall"] for x in rs]) if rend.startswith("prism") else ""
-            md.append(f"| {scene} | {rend} | {spp} | {spread(t)} | {wall} | "
-                      f"{statistics.mean(x['rmse'] for x in rs):.5f} | "
-                      f"{statistics.median(x['msps'] for x in rs):.3f} |")
-    md += ["", "Equal-error time ratio, Prism / Mitsuba (< 1: Prism reaches the peer's error sooner): the peer's "
-           "mean RMSE at its spp is the target; Prism's time to it interpolated in log-log (`~`: extrapolated). "
-           "Bootstrap 95%: the headline ratio recomputed over repetitions drawn with replacement (each draw keeps a "
-           "repetition's Prism and peer renders together, as they ran side by side). Per-repetition range: min-max of "
-           "the ratio from each repetition's own points alone (it need not contain the headline, which interpolates "
-           "the pooled points).", "",
-           "| scene | Prism | peer | peer spp | target RMSE | peer s | Prism s | ratio [bootstrap 95%] | "
-           "per-repetition range | ratio, Prism wall time | ratio, reference noise removed |",
-           "|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|"]
-    ratios_csv = ["scene,prism,peer,peer_spp,target_rmse,peer_seconds,prism_seconds,ratio,ratio_boot_lo,"
-                  "ratio_boot_hi,ratio_min,ratio_max,ratio_wall,ratio_noise_corrected,extrapolated"]
-    found = []  # (scene, prism, peer, spp, ratio, bootstrap interval or None)
-    for scene in scenes:
-        noise = noise_of(scene)
-        prisms = [k[1] for k in curves if k[0] == scene and k[1].startswith("prism")]
-        peers = sorted({k[1] for k in curves if k[0] == scene and k[1].startswith("mitsuba")},
-                       key=lambda k: (k != "mitsuba-ldsampler", k != "mitsuba-independent", k))
-        for peer in peers:
-            pc = curves.get((scene, peer), {})
-            for p in prisms:
-                cc = curves[(scene, p)]
-                med = [(statistics.median(x["seconds"] for x in rs), statistics.mean(x["rmse"] for x in rs),
-                        statistics.median(x["wall"] for x in rs)) for rs in cc.values()]
-                for spp, prs in sorted(pc.items()):
-                    target = statistics.mean(x["rmse"] for x in prs)
-                    peer_t = statistics.median(x["seconds"] for x in prs)
-                    tp, ex = time_to_error([(t, e) for t, e, _ in med], target)
-                    tw, exw = time_to_error([(wl, e) for _, e, wl in med], target)
-                    per_rep = []
-                    for x in prs:
-                        mine = [(r["seconds"], r["rmse"]) for rs in cc.values() for r in rs if r["rep"] == x["rep"]]
-                        t_rep, _ = time_to_error(mine, x["rmse"])
-                        if t_rep:
-                            per_rep.append(t_rep / x["seconds"])
-                    boot = headline_bootstrap(cc, pc, spp)
-                    tn = None
-                    if noise:
-                        tn, _ = time_to_error([(t, corrected(e, noise)) for t, e, _ in med], corrected(target, noise))
-                    mark = "~" if ex else ""
-                    ratio = tp / peer_t if tp else None
-                    cells = [scene, p, peer, str(spp), f"{target:.5f}", f"{peer_t:.3f}",
-                             f"{mark}{tp:.3f}" if tp else "-",
-                             f"**{mark}{ratio:.2f}**" + (f" [{boot[0]:.2f}-{boot[1]:.2f}]" if boot else "")
-                             if ratio else "-",
-                             f"{min(per_rep):.2f}-{max(per_rep):.2f}" if per_rep else "-",
-                             f"{'~' if exw else ''}{tw / peer_t:.2f}" if tw else "-",
-                             f"{tn / peer_t:.2f}" if tn else "-"]
-                    md.append("| " + " | ".join(cells) + " |")
-                    if ratio:
-                        found.append((scene, p, peer, spp, ratio, boot, ex))
-                    ratios_csv.append(",".join([scene, p, peer, str(spp), f"{target:.6g}", f"{peer_t:.4f}",
-                                                f"{tp:.4f}" if tp else "", f"{ratio:.4f}" if ratio else "",
-                                                f"{boot[0]:.4f}" if boot else "", f"{boot[1]:.4f}" if boot else "",
-                                                f"{min(per_rep):.4f}" if per_rep else "",
-                                                f"{max(per_rep):.4f}" if per_rep else "",
-                                                f"{tw / peer_t:.4f}" if tw else "",
-                                                f"{tn / peer_t:.4f}" if tn else "", str(int(ex))]))
-    md += best_peer_table(found)
-    (a.out / "mitsuba_compare_ratios.csv").write_text("\n".join(ratios_csv) + "\n")
-    text = "\n".join(md)
-    (a.out / "mitsuba_compare.md").write_text(text + "\n")
-    print(text)
-    log(f"wrote {a.out}/mitsuba_compare.md, mitsuba_compare_raw.csv, mitsuba_compare_ratios.csv")
-
-
-def best_peer_table(found):
-    """Markdown lines: for each (scene, Prism configuration, spp) the ratio against the Mitsuba configuration Prism does
-    worst against (the largest ratio over every peer but `independent`), that is the peer at its best."""
-    best = {}
-    for scene, p, peer, spp, ratio, boot, ex in found:
-        if peer == "mitsuba-independent":
-            continue
-        key = (scene, p, spp)
-        if key not in best or ratio > best[key][1]:
-            best[key] = (peer, ratio, boot, ex)
-    if not best:
-        return []
-    md = ["", "Against the peer at its best: for each scene, Prism configuration and spp, the largest ratio over the "
-          "Mitsuba configurations timed (every sampler but `independent`, every `rr_depth`), and which one it is.", "",
-          "| scene | Prism | spp | ratio [bootstrap 95%] | the peer at its best |", "|---|---|---:|---:|---|"]
-    for (scene, p, spp), (peer, ratio, boot, ex) in best.items():
-        interval = f" [{boot[0]:.2f}-{boot[1]:.2f}]" if boot else ""
-        md.append(f"| {scene} | {p} | {spp} | **{'~' if ex else ''}{ratio:.2f}**{interval} | {peer} |")
-    return md
-
-
-def headline_ratio(cc, pc, spp, reps):
-    """The headline equal-error ratio at the peer's `spp` from the repetitions `reps` (a list, repeats allowed):
-    Prism's curve of (median time, mean RMSE) per spp and the peer's mean RMSE and median time, all over `reps`."""
-    def pick(rs):
-        return [r for k in reps for r in rs if r["rep"] == k]
-    med = []
-    for rs in cc.values():
-        chosen = pick(rs)
-        if chosen:
-            med.append((statistics.median(x["seconds"] for x in chosen), statistics.mean(x["rmse"] for x in chosen)))
-    prs = pick(pc.get(spp, []))
-    if not prs:
-        return None
-    tp, _ = time_to_error(med, statistics.mean(x["rmse"] for x in prs))
-    return tp / statistics.median(x["seconds"] for x in prs) if tp else None
-
-
-def headline_bootstrap(cc, pc, spp, draws=2000):
-    """A 95% percentile-bootstrap interval of the headline ratio at the peer's `spp`: repetitions drawn with
-    replacement (a fixed seed, so the same rows give the same interval); None with fewer than two repetitions."""
-    import random
-    reps = sorted({r["rep"] for r in pc.get(spp, [])})
-    if len(reps) < 2:
-        return None
-    rng = random.Random(12345)
-    vals = sorted(v for v in (headline_ratio(cc, pc, spp, [rng.choice(reps) for _ in reps]) for _ in range(draws))
-                  if v is not None)
-    if len(vals) < draws // 2:
-        return None
-    return vals[int(0.025 * (len(vals) - 1))], vals[int(0.975 * (len(vals) - 1))]
-
-
 def cost_by_depth(a):
     """Nanoseconds per sample and thread of each path tracer with each max_depth: where along a path the time goes."""
     import numpy as np
@@ -755,7 +471,7 @@ def main():
         summarize(a, rows, {f"Mitsuba (rows of {a.summarize})"})
         return
     if os.environ.get("PRISM_PEER_IN_VENV") != "1":
-        bootstrap()  # does not return
+        bootstrap(Path(__file__).resolve())  # does not return
     if a.cost_by_depth:
         cost_by_depth(a)
         return
