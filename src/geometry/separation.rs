@@ -1,9 +1,9 @@
 //! Whether two convex polytopes, each given as the convex hull of a few points, are apart by more than a gap:
 //! the Gilbert–Johnson–Keerthi distance algorithm (Gilbert, Johnson & Keerthi 1988) on the Minkowski difference
-//! `A - B`, in `f64`, with the closest point of each simplex found by trying all its faces (at most 15, for a
-//! tetrahedron). GJK only *proposes* a direction: the answer is `true` only after the two sets' extents along
-//! that direction have been checked to be apart by more than the gap, so an inexact or unconverged iteration can
-//! only answer `false`. Used by [`crate::lights::ClearShadows`] to prove that no primitive can block a family of
+//! `A - B`, in `f64`, with the closest point of each simplex found by trying the faces that hold its newest point
+//! (at most 7, for a tetrahedron), after a first try along the line between the centroids. GJK and the centroids
+//! only *propose* a direction: the answer is `true` only after the two sets' extents along that direction have
+//! been checked to be apart by more than the gap, so an inexact or unconverged iteration can only answer `false`. Used by [`crate::lights::ClearShadows`] to prove that no primitive can block a family of
 //! shadow rays; `false` there means "trace them".
 
 use glam::DVec3;
@@ -13,10 +13,18 @@ const MAX_ITERATIONS: usize = 48;
 
 /// True when the convex hulls of `a` and `b` (non-empty) are at least `gap` apart along some direction, checked
 /// directly on the points: there is a unit `v` with `min(a . v) - max(b . v) > gap` or the same with the roles
-/// swapped. False when they touch, overlap, or GJK does not find such a direction (conservative).
+/// swapped. The direction from `b`'s centroid to `a`'s is tried first (it settles most of the pairs the shadow
+/// proofs ask about, without GJK's iterations), then GJK's. False when they touch, overlap, or neither direction
+/// separates them (conservative).
 pub fn hulls_apart(a: &[DVec3], b: &[DVec3], gap: f64) -> bool {
     if a.is_empty() || b.is_empty() {
         return false;
+    }
+    // The direction between the two sets' centroids first: it separates many pairs without GJK's iterations.
+    let centre = |p: &[DVec3]| p.iter().copied().sum::<DVec3>() / p.len() as f64;
+    let c = centre(a) - centre(b);
+    if apart_along(a, b, c, gap) {
+        return true;
     }
     match closest_difference(a, b) {
         Some(v) => apart_along(a, b, v, gap) || apart_along(b, a, v, gap),
@@ -88,13 +96,17 @@ fn closest_difference(a: &[DVec3], b: &[DVec3]) -> Option<DVec3> {
     None
 }
 
-/// The closest point to the origin of the simplex `s` (1-4 points) and the smallest face of it that contains that
-/// point, by trying every face: the affine closest point of each face, kept when its barycentric weights are all
-/// non-negative. None when the origin is inside a tetrahedron (or the faces are all degenerate).
+/// The closest point to the origin of the simplex `s` (1-4 points, the last the support point just added) and the
+/// smallest face of it that contains that point, by trying every face that holds the new point: the affine closest
+/// point of each, kept when its barycentric weights are all non-negative. The faces without it are faces of the
+/// simplex before, none of them closer than the point GJK had (the caller stops unless the new one is closer), so
+/// they are skipped: 7 faces of a tetrahedron instead of 15. None when the origin is inside a tetrahedron (or the
+/// faces are all degenerate).
 fn closest_on_simplex(s: &Simplex) -> Option<(DVec3, Simplex)> {
     let n = s.len;
+    let newest = 1u32 << (n - 1);
     let mut best: Option<(f64, DVec3, u32)> = None;
-    for mask in 1u32..(1 << n) {
+    for mask in (1u32..(1 << n)).filter(|m| m & newest != 0) {
         let mut face = Simplex { points: [DVec3::ZERO; 4], len: 0 };
         for i in (0..n).filter(|i| mask & (1 << i) != 0) {
             face.points[face.len] = s.points[i];
