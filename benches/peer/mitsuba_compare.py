@@ -324,8 +324,6 @@ def parse_args():
     return a
 
 
-
-
 def is_ld(spp):
     """ldsampler takes squares of powers of two >= 4, i.e. 4^k."""
     n = spp

@@ -3,8 +3,9 @@
 //! `A - B`, in `f64`, with the closest point of each simplex found by trying the faces that hold its newest point
 //! (at most 7, for a tetrahedron), after a first try along the line between the centroids. GJK and the centroids
 //! only *propose* a direction: the answer is `true` only after the two sets' extents along that direction have
-//! been checked to be apart by more than the gap, so an inexact or unconverged iteration can only answer `false`. Used by [`crate::lights::ClearShadows`] to prove that no primitive can block a family of
-//! shadow rays; `false` there means "trace them".
+//! been checked to be apart by more than the gap, so an inexact or unconverged iteration can only answer `false`.
+//! Used by [`crate::lights::ClearShadows`] to prove that no primitive can block a family of shadow rays; `false`
+//! there means "trace them".
 
 use glam::DVec3;
 
