@@ -33,7 +33,7 @@ pub struct RenderArgs {
     /// Total samples per pixel.
     #[arg(long)]
     pub spp: Option<u32>,
-    /// Progressive passes the samples are split into evenly (default: passes of at least 16 samples, at most 16, after
+    /// Progressive passes the samples are split into evenly (default: passes of at least 32 samples, at most 16, after
     /// the adaptive pilot's own pass).
     #[arg(long)]
     pub passes: Option<u32>,
