@@ -339,8 +339,8 @@ impl RenderSettings {
     }
 }
 
-/// Fewest samples per pixel a default pass holds: one camera-ray packet per pixel (`accel::PACKET`), and few
-/// enough passes that their fixed cost per pixel (the sampler's scramble keys, the film) stays small.
+/// Fewest samples per pixel a default pass holds: two camera-ray packets per pixel (`accel::PACKET` is 16), and
+/// few enough passes that their fixed cost per pixel (the sampler's scramble keys, the film) stays small.
 pub const MIN_PASS_SPP: u32 = 32;
 /// Most passes a render is split into by default (progress, checkpoints and time budgets work in passes).
 pub const MAX_DEFAULT_PASSES: u32 = 16;
