@@ -120,9 +120,15 @@ fn adaptive_sampling_with_a_photon_mapper_is_a_warning_not_an_effect() {
 // The allocation itself: rates, counts, and what a pixel's own samples may change.
 #[test]
 fn rates_average_one_and_respect_the_clamp() {
-    // A 40x40 pilot (1 sample per pixel): a few very noisy neighbourhoods among mildly noisy and flat ones.
+    // A 40x40 pilot (1 sample per pixel): a few very noisy neighbourhoods among mildly noisy ones, and a flat band
+    // (the first ten rows).
     let n = 40 * 40;
-    let sums: Vec<Vec3> = (0..n).map(|i| Vec3::splat(if i % 97 == 0 { 60.0 } else { (i % 7) as f32 * 0.1 })).collect();
+    let value = |i: usize| match i {
+        _ if i < 400 => 1.0,
+        _ if i % 97 == 0 => 60.0,
+        _ => (i % 7) as f32 * 0.1,
+    };
+    let sums: Vec<Vec3> = (0..n).map(|i| Vec3::splat(value(i))).collect();
     let squares: Vec<Vec3> = sums.iter().map(|s| *s * *s).collect();
     let a = SampleAllocation::from_pilot(40, 40, 1, &sums, &squares, 3);
     let r = a.rates();
@@ -174,7 +180,8 @@ fn a_pixel_rate_depends_on_its_own_pilot_samples_only_through_the_image_wide_nor
     sums[c] = Vec3::splat(40.0);
     squares[c] = Vec3::splat(400.0);
     let b = SampleAllocation::from_pilot(w, h, 4, &sums, &squares, 1);
-    assert!(b.rates()[c - 1] > 2.0 * a.rates()[c - 1], "the neighbours see the change");
+    // (Their deviation grows about 4x; rates follow its square root.)
+    assert!(b.rates()[c - 1] > 1.5 * a.rates()[c - 1], "the neighbours see the change");
     let own = (b.rates()[c] / a.rates()[c] - 1.0).abs();
     assert!(own < 8.0 * 20.0 / n as f32, "own rate moved by {own}");
     // A pixel far away in the same column (the same noise) gets exactly the same rate: the changed pixel's
