@@ -125,7 +125,7 @@ fn rates_average_one_and_respect_the_clamp() {
     let n = 40 * 40;
     let value = |i: usize| match i {
         _ if i < 400 => 1.0,
-        _ if i % 97 == 0 => 60.0,
+        _ if i.is_multiple_of(97) => 60.0,
         _ => (i % 7) as f32 * 0.1,
     };
     let sums: Vec<Vec3> = (0..n).map(|i| Vec3::splat(value(i))).collect();
