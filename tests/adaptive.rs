@@ -142,6 +142,22 @@ fn rates_average_one_and_respect_the_clamp() {
 }
 
 #[test]
+fn rates_follow_the_square_root_of_the_noise() {
+    // A 64x64 pilot of 4 samples per pixel, mean 1 everywhere: one sample's deviation 0.5 in the left half, 2 in the
+    // right. Rates go as the square root of the deviation (`NOISE_EXPONENT`), so the right half gets 2x the left's
+    // (away from the seam, where the neighbourhoods mix), and the two halves' rates average 1.
+    let (w, h) = (64u32, 64u32);
+    let n = (w * h) as usize;
+    let sigma = |i: usize| if (i % 64) < 32 { 0.5f32 } else { 2.0 };
+    let sums = vec![Vec3::splat(4.0); n];
+    let squares: Vec<Vec3> = (0..n).map(|i| Vec3::splat(4.0 * (1.0 + sigma(i) * sigma(i)))).collect();
+    let a = SampleAllocation::from_pilot(w, h, 4, &sums, &squares, 7);
+    let (left, right) = (a.rates()[20 * 64 + 10], a.rates()[20 * 64 + 50]);
+    assert!((right / left - 2.0).abs() < 1e-3, "rate ratio {} for a 4x deviation ratio", right / left);
+    assert!((left - 2.0 / 3.0).abs() < 0.02 && (right - 4.0 / 3.0).abs() < 0.04, "rates {left} and {right}");
+}
+
+#[test]
 fn counts_are_monotone_and_total_the_budget() {
     // A 32x32 pilot of 4 samples per pixel: a noisy column (samples 0 and 2: mean 1, E[v^2] 2) in a flat image.
     let (w, h) = (32u32, 32u32);
