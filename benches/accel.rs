@@ -33,7 +33,7 @@ fn data(rel: &str) -> PathBuf {
 }
 
 fn load(source: SceneSource, kind: AccelKind) -> App {
-    let mut app = App::with_default_plugins();
+    let mut app = App::with(prism::DefaultPlugins);
     app.resources.source = source;
     app.resources.overrides = Overrides { accel: Some(kind), ..Default::default() };
     app.setup().expect("load the benchmark scene");

@@ -82,7 +82,7 @@ fn scene_text(o: Object, level: Option<u32>) -> String {
 }
 
 fn app(text: &str) -> App {
-    let mut app = App::with_default_plugins();
+    let mut app = App::with(prism::DefaultPlugins);
     app.resources.source = SceneSource::RonText { text: text.into(), name: "curves.ron".into(), base_dir: ".".into() };
     app.resources.overrides = Overrides { accel: Some(AccelKind::Bvh), ..Default::default() };
     app

@@ -34,7 +34,7 @@ fn scene(env: &str) -> String {
 }
 
 fn render(text: &str, integrator: &str, spp: u32, seed: u64) -> Image {
-    let mut app = App::with_default_plugins();
+    let mut app = App::with(prism::DefaultPlugins);
     app.resources.source =
         SceneSource::RonText { text: text.into(), name: "env_sampling.ron".into(), base_dir: ".".into() };
     app.resources.overrides =

@@ -13,7 +13,7 @@ use std::path::PathBuf;
 use std::time::Duration;
 
 fn scene(file: &str, integrator: &str, spp: u32, passes: u32) -> App {
-    let mut app = App::with_default_plugins();
+    let mut app = App::with(prism::DefaultPlugins);
     app.resources.source = SceneSource::File(PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scenes").join(file));
     app.resources.overrides =
         Overrides { spp: Some(spp), passes: Some(passes), integrator: Some(integrator.into()), ..Default::default() };

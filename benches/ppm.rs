@@ -27,7 +27,7 @@ struct Setup {
 }
 
 fn setup(file: &str) -> Setup {
-    let mut app = App::with_default_plugins();
+    let mut app = App::with(prism::DefaultPlugins);
     app.resources.source = SceneSource::File(PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scenes").join(file));
     app.resources.overrides = Overrides { integrator: Some("ppm".into()), ..Default::default() };
     app.setup().expect("set up the scene");

@@ -185,7 +185,7 @@ fn seconds(f: impl FnOnce()) -> f64 {
 
 fn main() {
     let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scenes/cornell_box.ron");
-    let mut app = App::with_default_plugins();
+    let mut app = App::with(prism::DefaultPlugins);
     app.resources.source = SceneSource::File(path);
     app.setup().expect("load scenes/cornell_box.ron");
     let scene = app.resources.scene.as_ref().expect("a loaded scene");

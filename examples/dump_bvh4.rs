@@ -1,5 +1,5 @@
 fn main() {
-    let mut app = prism::App::with_default_plugins();
+    let mut app = prism::App::with(prism::DefaultPlugins);
     app.resources.source = prism::app::SceneSource::File(std::env::args().nth(1).unwrap().into());
     app.setup().unwrap();
     let s = app.resources.scene.as_ref().unwrap();

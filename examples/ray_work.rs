@@ -16,7 +16,7 @@ fn main() {
         eprintln!("usage: ray_work SCENE (PASSES=N: trace the bounce rays N times)");
         std::process::exit(2);
     };
-    let mut app = prism::App::with_default_plugins();
+    let mut app = prism::App::with(prism::DefaultPlugins);
     app.resources.source = prism::app::SceneSource::File(path.into());
     if let Err(e) = app.setup() {
         eprintln!("error: {e}");

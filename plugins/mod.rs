@@ -6,13 +6,3 @@ pub mod debug;
 pub mod envlight;
 pub mod phong;
 pub mod ppm;
-
-use crate::app::App;
-
-/// Add every built-in integrator plugin.
-pub fn add_builtin_plugins(app: &mut App) {
-    app.add_plugin(phong::PhongPlugin);
-    app.add_plugin(envlight::EnvlightPlugin);
-    app.add_plugin(ppm::PpmPlugin);
-    app.add_plugin(debug::DebugPlugin);
-}

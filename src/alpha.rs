@@ -14,7 +14,6 @@
 //! `alpha(uv) = factor * texture(uv).r` (a grey texture: the loader extracts an image's alpha channel).
 
 use crate::geometry::Ray;
-use crate::primitives::{Hit, Primitives};
 use crate::texture::ImageMap;
 
 /// Marks a triangle without a mask in `Primitives::tri_alpha`.
@@ -60,31 +59,4 @@ pub fn hash_unit(ray: &Ray, prim: u32) -> f32 {
     h = (h ^ (h >> 29)).wrapping_mul(0xc4ce_b9fe_1a85_ec53);
     h ^= h >> 32;
     (h >> 40) as f32 * (1.0 / (1u64 << 24) as f32)
-}
-
-impl Primitives {
-    /// True when the scene has alpha-masked triangles (rays then go through [`Primitives::alpha_passes`]).
-    #[inline]
-    pub fn has_alpha(&self) -> bool {
-        !self.tri_alpha.is_empty()
-    }
-
-    /// True when `hit` (found along `ray`) is on a hole of its triangle's alpha mask: the ray goes on.
-    #[inline]
-    pub fn alpha_passes(&self, hit: &Hit, ray: &Ray) -> bool {
-        let Some(&m) = self.tri_alpha.get(hit.prim as usize) else {
-            return false;
-        };
-        if m == NO_ALPHA {
-            return false;
-        }
-        let mask = &self.alpha_masks[m as usize];
-        let uvs = self.tri_shading[hit.prim as usize].uvs;
-        let uv = (1.0 - hit.b1 - hit.b2) * uvs[0] + hit.b1 * uvs[1] + hit.b2 * uvs[2];
-        let a = mask.alpha(uv);
-        match mask.mode {
-            AlphaMode::Mask { cutoff } => a < cutoff || a.is_nan(),
-            AlphaMode::Blend => hash_unit(ray, hit.prim) >= a || a.is_nan(),
-        }
-    }
 }

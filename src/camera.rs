@@ -16,10 +16,57 @@
 //! position `(px, py)` of the `W x H` window maps to the full-frame fraction `(x0 + (x1 - x0) px / W, y0 + (y1 -
 //! y0) py / H)`, and the fov and aspect ratio are the full frame's.
 
-use crate::components::{Camera, Projection};
 use crate::geometry::Ray;
 use crate::sampling::warp::concentric_disk;
-use glam::{Affine3A, Vec2, Vec3A};
+use glam::{Affine3A, Vec2, Vec3, Vec3A};
+
+/// Camera projection.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Projection {
+    /// Pinhole; `fov_y` is the full vertical field of view in degrees.
+    Perspective { fov_y: f32 },
+    /// Parallel projection; `height` is the world-space height of the view.
+    Orthographic { height: f32 },
+}
+
+/// A camera looking from `eye` to `target` (local frame of its entity), with an image size in pixels. An
+/// `aperture_radius` above 0 makes it a thin lens focused at `focus_distance` along the view direction.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Camera {
+    pub eye: Vec3,
+    pub target: Vec3,
+    pub up: Vec3,
+    pub projection: Projection,
+    pub width: u32,
+    pub height: u32,
+    pub aperture_radius: f32,
+    pub focus_distance: f32,
+    /// Mirror the image left-right: image-right is `up x forward` instead of `forward x up` (pbrt's left-handed
+    /// screen space; a pbrt `LookAt` camera sees the world mirrored relative to Prism's convention).
+    pub mirror: bool,
+    /// Render only this window of the full frame, `[x_min, y_min, x_max, y_max]` as fractions of the frame
+    /// (0 = left/top edge, 1 = right/bottom; pbrt's `cropwindow`). `width` x `height` are the window's pixels,
+    /// so the full frame's aspect ratio is `(width / (x_max - x_min)) / (height / (y_max - y_min))`.
+    pub crop: Option<[f32; 4]>,
+}
+
+impl Default for Camera {
+    /// A pinhole at (0, 0, 5) looking at the origin, +y up, 40 degrees, 256 x 256.
+    fn default() -> Self {
+        Camera {
+            eye: Vec3::new(0.0, 0.0, 5.0),
+            target: Vec3::ZERO,
+            up: Vec3::Y,
+            projection: Projection::Perspective { fov_y: 40.0 },
+            width: 256,
+            height: 256,
+            aperture_radius: 0.0,
+            focus_distance: 5.0,
+            mirror: false,
+            crop: None,
+        }
+    }
+}
 
 /// A camera resolved to world space, ready to generate rays.
 #[derive(Clone, Copy, Debug)]

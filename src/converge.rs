@@ -68,7 +68,7 @@ pub fn measure(
     let mut out = vec![];
     for spec in integrators {
         for b in budgets {
-            let mut app = App::with_default_plugins();
+            let mut app = App::with(crate::DefaultPlugins);
             app.resources.source = SceneSource::File(scene.to_path_buf());
             let mut o = base.clone();
             o.integrator = Some(spec.clone());

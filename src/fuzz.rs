@@ -37,7 +37,7 @@ fn names_files(text: &str) -> bool {
 
 /// Load, set up and render one 4x4 pass of RON scene text (no files).
 fn load_and_render(text: &str, name: &str) {
-    let mut app = App::with_default_plugins();
+    let mut app = App::with(crate::DefaultPlugins);
     app.resources.source = SceneSource::RonText { text: text.into(), name: name.into(), base_dir: NO_DIR.into() };
     app.resources.overrides =
         Overrides { size: Some((4, 4)), spp: Some(1), passes: Some(1), time_budget: None, ..Default::default() };
@@ -123,7 +123,7 @@ pub fn exr_image(data: &[u8]) {
 pub fn integrator_spec(data: &[u8]) {
     let Ok(text) = std::str::from_utf8(data) else { return };
     let Ok(cfg) = PluginConfig::from_spec(text) else { return };
-    let app = App::with_default_plugins();
+    let app = App::with(crate::DefaultPlugins);
     for name in ["phong", "envlight", "ppm", "debug"] {
         let c = PluginConfig { name: name.into(), ..cfg.clone() };
         let _ = app.resources.integrators.create(&c);
@@ -174,7 +174,7 @@ pub fn ply_mesh(data: &[u8]) {
 /// glTF JSON or GLB bytes, external buffers and images resolving to nothing: loaded, set up and rendered (4x4
 /// pixels, 1 sample).
 pub fn gltf_scene(data: &[u8]) {
-    let mut app = App::with_default_plugins();
+    let mut app = App::with(crate::DefaultPlugins);
     app.resources.materials.push(crate::material::Material::default());
     let (world, res) = (&mut app.world, &mut app.resources);
     let loaded = crate::load::with_loader_stack(|| {

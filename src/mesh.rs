@@ -1,8 +1,11 @@
 //! Triangle meshes shared by entities (`Shape::Mesh(handle)`), plus the built-in unit quad and cube.
 
-use crate::components::MeshHandle;
 use glam::{Vec2, Vec3};
 use std::sync::Arc;
+
+/// Index of a mesh in [`MeshStore`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct MeshHandle(pub u32);
 
 /// An indexed triangle mesh in its local frame. `normals`, `uvs` and `tangents` are either empty or one per
 /// position.

@@ -25,7 +25,7 @@ pub fn propagate_transforms(world: &mut World, res: &mut crate::app::Resources) 
             if chain.len() > nodes.len() {
                 return Err(PrismError::invalid(format!(
                     "{}: parent chain has a cycle",
-                    crate::load::entity_label(world, start)
+                    crate::components::entity_label(world, start)
                 )));
             }
             chain.push(e);
@@ -38,7 +38,7 @@ pub fn propagate_transforms(world: &mut World, res: &mut crate::app::Resources) 
         }
     }
     for (e, m) in resolved {
-        crate::load::check_affine(&m, &crate::load::entity_label(world, e))
+        crate::math::check_affine(&m, &crate::components::entity_label(world, e))
             .map_err(|err| crate::render::in_scene_file(res, err))?;
         world.insert_one(e, WorldFromLocal(m)).map_err(|_| PrismError::invalid("entity vanished during Propagate"))?;
     }

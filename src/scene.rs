@@ -3,7 +3,6 @@
 //! threads.
 
 use crate::accel::Accel;
-use crate::app::SceneGlobals;
 use crate::bsdf::Bsdf;
 use crate::camera::CameraRig;
 use crate::geometry::Ray;
@@ -14,6 +13,15 @@ use crate::texture::TextureSet;
 use glam::{Vec3, Vec3A};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
+
+/// Scene-wide values that are not entities.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct SceneGlobals {
+    /// Radiance of rays that leave the scene.
+    pub background: Vec3,
+    /// Ambient radiance (reflected by materials' `ambient` coefficient).
+    pub ambient: Vec3,
+}
 
 pub struct Scene {
     pub camera: CameraRig,

@@ -55,7 +55,7 @@ impl PluginConfig {
         };
         parsed.map_err(|(path, e)| {
             let e = de.span_error(e);
-            let what = crate::load::describe_ron_error(&e.code);
+            let what = crate::ron_error::describe(&e.code);
             let message = if path.is_empty() || path == "." || path == "?" {
                 format!("integrator '{}': {what}", self.name)
             } else {

@@ -39,7 +39,7 @@ fn check_proofs(scene: &Scene, vertices: usize, seed: u64) -> (usize, usize, usi
                 continue;
             }
             queries += 1;
-            let ray = s.spawn_to(&ls);
+            let ray = ls.shadow_ray(&s);
             let occluded = scene.occluded(&ray);
             blocked += occluded as usize;
             // A key is proved once it has been asked often enough to be worth it: ask until it has.

@@ -28,7 +28,7 @@ pub fn scene_path(name: &str) -> PathBuf {
 
 /// An app for RON text (relative paths resolve against `scenes/`), with overrides.
 pub fn app_from_ron(text: &str, overrides: Overrides) -> App {
-    let mut app = App::with_default_plugins();
+    let mut app = App::with(prism::DefaultPlugins);
     app.resources.source = SceneSource::RonText {
         text: text.to_string(),
         name: PathBuf::from("test.ron"),
@@ -39,7 +39,7 @@ pub fn app_from_ron(text: &str, overrides: Overrides) -> App {
 }
 
 pub fn app_from_file(path: &Path, overrides: Overrides) -> App {
-    let mut app = App::with_default_plugins();
+    let mut app = App::with(prism::DefaultPlugins);
     app.resources.source = SceneSource::File(path.to_path_buf());
     app.resources.overrides = overrides;
     app

@@ -60,7 +60,7 @@ impl Plugin for FacingPlugin {
 #[test]
 fn an_integrator_defined_outside_the_crate_renders_through_the_plugin_api() {
     let passes_seen = Arc::new(AtomicU32::new(0));
-    let mut app = App::with_default_plugins();
+    let mut app = App::with(prism::DefaultPlugins);
     app.add_plugin(FacingPlugin { passes_seen: passes_seen.clone() });
     app.resources.source = SceneSource::RonText {
         text: "(camera: (eye: (0, 0, 4), fov: 30, size: (33, 33)), render: (integrator: facing(scale: 0.5), spp: 4, passes: 2),
@@ -81,7 +81,7 @@ fn an_integrator_defined_outside_the_crate_renders_through_the_plugin_api() {
 
 #[test]
 fn unknown_plugin_parameters_are_rejected_with_their_position() {
-    let mut app = App::with_default_plugins();
+    let mut app = App::with(prism::DefaultPlugins);
     app.add_plugin(FacingPlugin { passes_seen: Arc::new(AtomicU32::new(0)) });
     app.resources.source = SceneSource::RonText {
         text: "(camera: (),\n render: (integrator: facing(scael: 2)))".into(),
@@ -94,7 +94,7 @@ fn unknown_plugin_parameters_are_rejected_with_their_position() {
 
 #[test]
 fn the_schedule_runs_stages_in_the_documented_order() {
-    let app = App::with_default_plugins();
+    let app = App::with(prism::DefaultPlugins);
     let order: Vec<Vec<&str>> = Stage::ALL.iter().map(|s| app.schedule().system_names(*s)).collect();
     assert_eq!(order[0], ["load_scene", "check_outputs"]);
     assert_eq!(order[1], ["propagate_transforms"]);

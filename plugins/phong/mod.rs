@@ -138,7 +138,7 @@ impl Phong {
                 if f == Vec3::ZERO {
                     continue;
                 }
-                if self.params.shadows && scene.occluded(&s.spawn_to(&ls)) {
+                if self.params.shadows && scene.occluded(&ls.shadow_ray(s)) {
                     continue;
                 }
                 acc += f * ls.li * (ls.wi.dot(ns).abs() / ls.pdf);

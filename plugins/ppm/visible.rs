@@ -174,7 +174,7 @@ impl EyePass<'_> {
         // The BSDF is zero on the side it does not scatter to (transmissive lobes scatter to both).
         let f = bsdf.eval(ls.wi);
         let cos = ls.wi.dot(n).abs();
-        if f == Vec3::ZERO || ls.pdf <= 0.0 || scene.occluded(&hit.spawn_to(&ls)) {
+        if f == Vec3::ZERO || ls.pdf <= 0.0 || scene.occluded(&ls.shadow_ray(hit)) {
             return Vec3::ZERO;
         }
         f * ls.li * (cos / ls.pdf)

@@ -114,7 +114,7 @@ pub fn timed_build(kind: AccelKind, prims: &Primitives, min: Duration) -> Result
 
 /// Measure every accelerator of `opts` on the scene at `path` (the builds and traversals run on `pool`).
 pub fn bench_scene(path: &Path, opts: &BenchOptions, pool: &rayon::ThreadPool) -> Result<Vec<BenchRow>> {
-    let mut app = App::with_default_plugins();
+    let mut app = App::with(crate::DefaultPlugins);
     app.resources.source = SceneSource::File(path.to_path_buf());
     app.resources.overrides = Overrides { accel: Some(AccelKind::Brute), ..Default::default() };
     app.setup()?;

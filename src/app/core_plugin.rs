@@ -1,7 +1,10 @@
-//! The core plugin: the systems every render needs, in stage order.
+//! The engine's plugin: the stage systems every render needs after its scene is loaded (transforms, primitives and
+//! the accelerator, lights, the integrator and film, passes, outputs), in stage order. The Load stage's systems come
+//! from the loaders' plugin; the integrators from theirs.
 
 use super::{App, Plugin, Stage};
 
+/// The engine's stage systems (everything but Load).
 pub struct CorePlugin;
 
 impl Plugin for CorePlugin {
@@ -10,9 +13,7 @@ impl Plugin for CorePlugin {
     }
 
     fn build(&self, app: &mut App) {
-        app.add_system(Stage::Load, "load_scene", crate::load::load_scene_system)
-            .add_system(Stage::Load, "check_outputs", crate::load::check_outputs_system)
-            .add_system(Stage::Propagate, "propagate_transforms", crate::propagate::propagate_transforms)
+        app.add_system(Stage::Propagate, "propagate_transforms", crate::propagate::propagate_transforms)
             .add_system(Stage::BuildAccel, "build_scene", crate::render::build_scene_system)
             .add_system(Stage::Prepare, "build_lights", crate::render::build_lights_system)
             .add_system(Stage::Prepare, "prepare_integrator", crate::render::prepare_integrator_system)

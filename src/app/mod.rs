@@ -6,8 +6,9 @@
 //! ```
 //!
 //! A system is a plain function over `(&mut World, &mut Resources)`. Plugins add systems and integrators through
-//! the public [`Plugin`] trait; [`CorePlugin`] registers the core systems and the built-in plugins add the
-//! integrators. `Render` and `Accumulate` repeat once per progressive pass until the pass count or time budget is
+//! the public [`Plugin`] trait; [`CorePlugin`] registers the engine's stage systems, the loaders' plugin the Load
+//! stage's, and integrator plugins their integrators. The app names no plugin: the set the binary ships is
+//! `DefaultPlugins`, at the top of the crate graph. `Render` and `Accumulate` repeat once per progressive pass until the pass count or time budget is
 //! reached or the render is cancelled.
 
 mod core_plugin;
@@ -15,9 +16,10 @@ mod plugin;
 mod resources;
 mod schedule;
 
+pub use crate::scene::SceneGlobals;
 pub use core_plugin::CorePlugin;
 pub use plugin::Plugin;
-pub use resources::{Progress, Resources, SceneGlobals, SceneSource};
+pub use resources::{Progress, Resources, SceneSource};
 pub use schedule::{Schedule, Stage, System};
 
 use crate::error::Result;
@@ -43,11 +45,10 @@ impl App {
         App { world: World::new(), resources: Resources::default(), schedule: Schedule::default(), plugins: vec![] }
     }
 
-    /// The core systems plus every built-in integrator plugin.
-    pub fn with_default_plugins() -> Self {
+    /// An app with `plugin` added (for the `prism` binary's set, `App::with(crate::DefaultPlugins)`).
+    pub fn with(plugin: impl Plugin) -> Self {
         let mut app = Self::empty();
-        app.add_plugin(CorePlugin);
-        crate::plugins::add_builtin_plugins(&mut app);
+        app.add_plugin(plugin);
         app
     }
 

@@ -6,9 +6,8 @@ use crate::film::Film;
 use crate::integrator::{Integrator, IntegratorRegistry, PassOutput};
 use crate::material::Material;
 use crate::mesh::MeshStore;
-use crate::scene::Scene;
+use crate::scene::{Scene, SceneGlobals};
 use crate::settings::{Overrides, RenderSettings};
-use glam::Vec3;
 use std::any::{Any, TypeId};
 use std::collections::HashMap;
 use std::path::PathBuf;
@@ -26,15 +25,6 @@ pub enum SceneSource {
     File(PathBuf),
     /// RON text; `name` is used in error messages and relative paths resolve against `base_dir`.
     RonText { text: String, name: PathBuf, base_dir: PathBuf },
-}
-
-/// Scene-wide values that are not entities.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct SceneGlobals {
-    /// Radiance of rays that leave the scene.
-    pub background: Vec3,
-    /// Ambient radiance (reflected by materials' `ambient` coefficient).
-    pub ambient: Vec3,
 }
 
 /// Progress of the progressive render.

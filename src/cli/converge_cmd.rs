@@ -154,7 +154,7 @@ pub fn run(a: ConvergeArgs) -> anyhow::Result<()> {
 
 /// The files a scene reads (the scene itself, meshes, textures, environment maps): its Load stage alone.
 fn scene_inputs(scene: &std::path::Path) -> anyhow::Result<Vec<PathBuf>> {
-    let mut app = crate::app::App::with_default_plugins();
+    let mut app = crate::app::App::with(crate::DefaultPlugins);
     app.resources.source = crate::app::SceneSource::File(scene.to_path_buf());
     app.run_stage(crate::app::Stage::Load)?;
     Ok(std::mem::take(&mut app.resources.inputs))

@@ -185,7 +185,7 @@ pub fn run(args: RaytracerArgs) -> anyhow::Result<()> {
         exact_curves: o.exact_curves,
     };
     if o.stats {
-        let mut app = crate::App::with_default_plugins();
+        let mut app = crate::App::with(crate::DefaultPlugins);
         app.resources.source = crate::app::SceneSource::File(input.clone());
         app.resources.overrides.accel = super::render_cmd::accel_override(None, o.grid.as_ref().map(|g| &g[..]))?;
         app.resources.overrides.exact_curves = o.exact_curves;

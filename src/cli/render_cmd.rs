@@ -187,7 +187,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
             .into());
         }
     }
-    let mut app = App::with_default_plugins();
+    let mut app = App::with(crate::DefaultPlugins);
     let r = &mut app.resources;
     r.source = SceneSource::File(args.scene.clone());
     r.overrides = Overrides {

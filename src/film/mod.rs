@@ -9,11 +9,12 @@
 
 pub mod file;
 pub mod fixed;
+mod tiles;
 
 pub use file::{FilmFile, FilmHeader, ShardAxis, parse_film, read_film, write_film};
 pub use fixed::FixedRgb;
+pub use tiles::{PassOutput, TILE_SIZE, Tile, TileSamples, tiles};
 
-use crate::integrator::{PassOutput, TILE_SIZE, TileSamples};
 use glam::Vec3;
 use rayon::prelude::*;
 

@@ -10,12 +10,14 @@
 //! - [`IntegratorRegistry`]: names to factories; plugins register theirs in `Plugin::build`.
 
 mod adaptive;
+mod next_event;
 mod per_pixel;
 mod registry;
 pub mod roulette;
 
+pub use crate::film::{PassOutput, TILE_SIZE, Tile, TileSamples, tiles};
 pub use adaptive::{MAX_RATE, MIN_ADAPTIVE_PIXELS, MIN_RATE, SampleAllocation};
-pub use per_pixel::{PerPixel, TILE_SIZE, lens_sample_index, tiles};
+pub use per_pixel::{PerPixel, lens_sample_index};
 pub use registry::{IntegratorFactory, IntegratorRegistry};
 
 use crate::error::Result;
@@ -38,49 +40,6 @@ pub struct PassInfo<'a> {
     /// Samples per pixel rendered in earlier passes (index of this pass's first sample).
     pub first_sample: u64,
     pub settings: &'a RenderSettings,
-}
-
-/// A rectangle of pixels.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Tile {
-    pub x0: u32,
-    pub y0: u32,
-    pub w: u32,
-    pub h: u32,
-}
-
-/// Radiance sums of one tile for one pass: `sums[y * w + x]` holds the sum of `counts[y * w + x]` samples (the
-/// same count everywhere unless the render is adaptive).
-#[derive(Clone, Debug)]
-pub struct TileSamples {
-    pub tile: Tile,
-    pub counts: Vec<u32>,
-    pub sums: Vec<Vec3>,
-    /// Samples that came out NaN or infinite and were replaced by 0 (reported in the render summary).
-    pub nonfinite: u32,
-}
-
-impl TileSamples {
-    /// Whether the tile lies inside a `width` x `height` image and holds one sum and one count per pixel (a
-    /// plugin's tiles are checked before they reach the film).
-    pub fn fits(&self, width: u32, height: u32) -> bool {
-        let t = self.tile;
-        let n = t.w as u64 * t.h as u64;
-        t.x0 as u64 + t.w as u64 <= width as u64
-            && t.y0 as u64 + t.h as u64 <= height as u64
-            && self.sums.len() as u64 == n
-            && self.counts.len() as u64 == n
-    }
-}
-
-/// The result of one pass.
-#[derive(Clone, Debug)]
-pub enum PassOutput {
-    /// Sample sums to add to the film (tiles not rendered because of cancellation are simply absent).
-    Samples(Vec<TileSamples>),
-    /// A complete image estimate that replaces the film's content (for methods whose estimate is not a mean of
-    /// independent samples, such as progressive photon mapping). `complete` is false if the pass was cut short.
-    Estimate { image: Vec<Vec3>, complete: bool },
 }
 
 /// A rendering method that advances the image one progressive pass at a time.

@@ -25,7 +25,7 @@
 //! With `adaptive` settings the first pass is the pilot of a [`SampleAllocation`] and later passes give each pixel
 //! the samples it allots (see [`super::adaptive`]).
 
-use super::{Integrator, PassInfo, PassOutput, PixelIntegrator, SampleAllocation, Tile, TileSamples};
+use super::{Integrator, PassInfo, PassOutput, PixelIntegrator, SampleAllocation, Tile, TileSamples, tiles};
 use crate::accel::PACKET;
 use crate::error::Result;
 use crate::geometry::Ray;
@@ -47,19 +47,6 @@ const BATCH_REACH: f32 = 0.5;
 
 // A chunk's samples are the Sobol batch's lanes.
 const _: () = assert!(PACKET == SOBOL_BATCH);
-
-pub const TILE_SIZE: u32 = 16;
-
-/// The image cut into `TILE_SIZE` tiles, row by row.
-pub fn tiles(width: u32, height: u32) -> Vec<Tile> {
-    let mut out = Vec::new();
-    for y0 in (0..height).step_by(TILE_SIZE as usize) {
-        for x0 in (0..width).step_by(TILE_SIZE as usize) {
-            out.push(Tile { x0, y0, w: TILE_SIZE.min(width - x0), h: TILE_SIZE.min(height - y0) });
-        }
-    }
-    out
-}
 
 /// The sample whose lens point sample `index` uses: `index` is at `position` of a block of `count` consecutive
 /// samples (`position < count`), and the block is permuted by `key` (see the module notes). A bijection of the

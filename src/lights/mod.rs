@@ -16,10 +16,10 @@
 
 mod area;
 mod clear_shadows;
-mod direct;
 mod directional;
 mod env_sampling;
 mod environment;
+mod light;
 mod light_sampler;
 mod piecewise;
 mod point;
@@ -32,6 +32,7 @@ pub use clear_shadows::ClearShadows;
 pub use directional::DirectionalLight;
 pub use env_sampling::{EnvSampling, EnvStrategy};
 pub use environment::EnvironmentLight;
+pub use light::Light;
 pub use light_sampler::LightSampler;
 pub use piecewise::Piecewise2D;
 pub use point::PointLight;
@@ -39,7 +40,6 @@ pub use power_sampler::PowerLightSampler;
 pub use quadtree::{DELTA, EPSILON, EnvSample, QuadTree};
 pub use spot::{SpotLight, SpotProfile};
 
-use crate::components::{Light, WorldFromLocal};
 use crate::error::{PrismError, Result};
 use crate::geometry::{Bounds, Ray};
 use crate::primitives::{EntityPrims, Primitives, SurfaceHit};
@@ -66,6 +66,13 @@ pub struct LightSample {
 }
 
 impl LightSample {
+    /// The shadow ray from the surface point `from` to this sample (both ends offset off their surfaces; towards
+    /// `wi` without an end for a light at infinity).
+    #[inline(always)]
+    pub fn shadow_ray(&self, from: &SurfaceHit) -> Ray {
+        if self.dist.is_finite() { from.spawn_to(self.p, self.p_err, self.n) } else { from.spawn(self.wi) }
+    }
+
     /// A delta light's sample: light at `p`, direction `wi`, irradiance at normal incidence `li`.
     #[inline]
     pub fn delta(p: Vec3A, wi: Vec3A, dist: f32, li: Vec3) -> Self {
@@ -147,31 +154,41 @@ pub struct LightSet {
     pub sphere: SceneSphere,
 }
 
+/// A light placed in the world, as [`LightSet::build`] takes it: the scene's description, its composed transform,
+/// and for an area light the primitives of its shape.
+#[derive(Clone, Copy, Debug)]
+pub struct PlacedLight<'a> {
+    pub light: &'a Light,
+    /// The composed transform from the light's frame to world space (area lights are already in world space).
+    pub world_from_local: glam::Affine3A,
+    /// The primitives an area light emits from (`None` for other lights).
+    pub emitter: Option<EntityPrims>,
+}
+
 impl LightSet {
-    /// Collect the lights of the world. `emitters` are the entities with area lights, in slot order.
-    pub fn build(world: &hecs::World, prims: &Primitives, emitters: &[(hecs::Entity, EntityPrims)]) -> Result<Self> {
+    /// Resolve the scene's lights to world space: first the area lights, in the order of their slots (`lights`
+    /// entries with an `emitter`), then the others in the order given. `label(i)` names the owner of `lights[i]`
+    /// in errors.
+    pub fn build(lights_in: &[PlacedLight<'_>], prims: &Primitives, label: impl Fn(usize) -> String) -> Result<Self> {
         let mut lights = Vec::new();
-        // The entity of each light (and of the environment), for errors.
+        // The index of each light's owner (and of the environment's), for errors.
         let mut owners = Vec::new();
         let mut env_owner = None;
-        for (entity, ep) in emitters {
-            let Ok(light) = world.get::<&Light>(*entity) else {
-                continue;
-            };
-            if let Light::Area { radiance, two_sided, texture } = &*light {
+        for (index, placed) in lights_in.iter().enumerate() {
+            if let (Some(ep), Light::Area { radiance, two_sided, texture }) = (&placed.emitter, placed.light) {
                 lights.push(LightSource::Area(AreaLight::new(prims, ep, *radiance, *two_sided, texture.clone())));
-                owners.push(*entity);
+                owners.push(index);
             }
         }
         let mut environment = None;
-        let mut q = world.query::<(hecs::Entity, &Light, Option<&WorldFromLocal>)>();
-        let mut others: Vec<_> = q.iter().filter(|(_, l, _)| !matches!(l, Light::Area { .. })).collect();
-        others.sort_by_key(|(e, ..)| e.id());
-        for (entity, light, wfl) in others {
-            let m = wfl.map(|w| w.0).unwrap_or_default();
-            let label = || crate::load::entity_label(world, entity);
-            if !matches!(light, Light::Environment { .. } | Light::Area { .. }) {
-                owners.push(entity);
+        for (index, placed) in lights_in.iter().enumerate() {
+            let (light, m) = (placed.light, placed.world_from_local);
+            if matches!(light, Light::Area { .. }) {
+                continue;
+            }
+            let name = || label(index);
+            if !matches!(light, Light::Environment { .. }) {
+                owners.push(index);
             }
             match light {
                 Light::Point { intensity, position, attenuation } => lights.push(LightSource::Point(PointLight {
@@ -183,7 +200,7 @@ impl LightSet {
                     let axis = m
                         .transform_vector3a((*direction).into())
                         .try_normalize()
-                        .ok_or_else(|| PrismError::scene(label(), "spot light has a zero direction"))?;
+                        .ok_or_else(|| PrismError::scene(name(), "spot light has a zero direction"))?;
                     lights.push(LightSource::Spot(SpotLight::new(
                         m.transform_point3a((*position).into()),
                         axis,
@@ -195,16 +212,16 @@ impl LightSet {
                 }
                 Light::Environment { radiance, map } => {
                     if environment.is_some() {
-                        return Err(PrismError::scene(label(), "a scene can have only one environment light"));
+                        return Err(PrismError::scene(name(), "a scene can have only one environment light"));
                     }
                     environment = Some(EnvironmentLight::new(*radiance, map.clone(), &m));
-                    env_owner = Some(entity);
+                    env_owner = Some(index);
                 }
                 Light::Directional { irradiance, direction } => {
                     let d = m.transform_vector3a((*direction).into());
                     let to_light = (-d)
                         .try_normalize()
-                        .ok_or_else(|| PrismError::scene(label(), "directional light has a zero direction"))?;
+                        .ok_or_else(|| PrismError::scene(name(), "directional light has a zero direction"))?;
                     lights.push(LightSource::Directional(DirectionalLight { to_light, irradiance: *irradiance }))
                 }
                 Light::Area { .. } => {}
@@ -218,7 +235,7 @@ impl LightSet {
             let p = set.power(i, prims);
             if !p.is_finite() {
                 return Err(PrismError::scene(
-                    crate::load::entity_label(world, owner),
+                    label(owner),
                     format!("the light's power overflows ({p}): its radiance, intensity or scale is too large"),
                 ));
             }

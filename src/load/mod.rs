@@ -12,16 +12,21 @@ pub mod mit6837;
 mod obj;
 mod obj_check;
 pub mod pbrt;
+mod plugin;
 pub mod ply;
 mod ron_scene;
 mod spawn;
 mod transform;
 
+pub use crate::components::entity_label;
+pub use crate::math::check_affine;
+pub use crate::ron_error::describe as describe_ron_error;
 pub use deep_stack::{LOADER_STACK_BYTES, RON_RECURSION_LIMIT, with_loader_stack};
 pub use obj::{ObjPart, load_obj, parse_obj};
-pub use ron_scene::{describe as describe_ron_error, line_col, parse_scene, plugin_config};
+pub use plugin::LoadPlugin;
+pub use ron_scene::{line_col, parse_scene, plugin_config};
 pub use spawn::{FileSettings, camera_component, spawn_scene};
-pub use transform::{check_affine, compose};
+pub use transform::compose;
 
 use crate::app::{Resources, SceneSource};
 use crate::components::{Camera, Light, MaterialId, Name, Projection, Shape};
@@ -31,14 +36,6 @@ use crate::settings::{MAX_DEFAULT_PASSES, PluginConfig, RenderSettings, default_
 use glam::Vec3;
 use hecs::World;
 use std::path::Path;
-
-/// A readable name for an entity in messages: its `Name`, or its id.
-pub fn entity_label(world: &World, e: hecs::Entity) -> String {
-    match world.get::<&Name>(e) {
-        Ok(n) => format!("entity '{}'", n.0),
-        Err(_) => format!("entity #{}", e.id()),
-    }
-}
 
 /// Load-stage system: spawn the scene's entities and resolve the settings.
 pub fn load_scene_system(world: &mut World, res: &mut Resources) -> Result<()> {

@@ -15,83 +15,8 @@ pub fn parse_scene<'a>(text: &'a str, file: &Path) -> Result<SceneDesc<'a>> {
         .with_recursion_limit(super::RON_RECURSION_LIMIT);
     opts.from_str::<SceneDesc>(text).map_err(|e| PrismError::Parse {
         pos: SourcePos { file: file.to_path_buf(), line: e.span.start.line, col: e.span.start.col },
-        message: describe(&e.code),
+        message: crate::ron_error::describe(&e.code),
     })
-}
-
-/// RON's message in the words of the file's author: unknown or missing fields and values name the field and the
-/// accepted alternatives, never the schema's internal type names.
-pub fn describe(code: &ron::Error) -> String {
-    let list = |v: &[&str]| match v {
-        [] => "none".to_string(),
-        [one] => format!("`{one}`"),
-        _ => {
-            let quoted: Vec<String> = v.iter().map(|s| format!("`{s}`")).collect();
-            format!("{} or {}", quoted[..quoted.len() - 1].join(", "), quoted[quoted.len() - 1])
-        }
-    };
-    match code {
-        ron::Error::NoSuchEnumVariant { expected, found, .. } => {
-            format!("unknown value `{found}` (expected {})", list(expected))
-        }
-        ron::Error::NoSuchStructField { expected, found, .. } => {
-            format!("unknown field `{found}` (expected {})", list(expected))
-        }
-        ron::Error::MissingStructField { field, .. } => format!("missing field `{field}`"),
-        ron::Error::DuplicateStructField { field, .. } => format!("field `{field}` given twice"),
-        ron::Error::SuggestRawIdentifier(found) => {
-            format!("expected a name here, found `{}`", crate::error::printable(found))
-        }
-        ron::Error::ExceededRecursionLimit => format!(
-            "nested too deeply (Prism reads at most {} levels of nested entities)",
-            crate::limits::MAX_NESTING_DEPTH
-        ),
-        other => rename_types(&other.to_string()),
-    }
-}
-
-fn rename_types(s: &str) -> String {
-    // Serde names the schema's Rust types (`expected enum AccelDesc`); say what they are in the file instead.
-    const NAMES: [(&str, &str); 30] = [
-        ("SceneDesc", "the scene"),
-        ("RenderDesc", "`render`"),
-        ("CameraDesc", "`camera`"),
-        ("EntityDesc", "an entity"),
-        ("MaterialDesc", "a material"),
-        ("ShapeDesc", "a shape"),
-        ("LightDesc", "a light"),
-        ("TransformOp", "a transform"),
-        ("AccelDesc", "an accelerator (`bvh`, `kdtree`, `grid` or `brute`)"),
-        ("TextureDesc", "a texture"),
-        ("TextureRef", "a texture reference"),
-        ("ColorDesc", "a colour"),
-        ("ScalarDesc", "a number or texture"),
-        ("ScaleDesc", "a scale"),
-        ("Channel", "a channel (`R`, `G`, `B` or `Mean`)"),
-        ("Wrap", "a wrap mode"),
-        ("SourceLayout", "a layout (`Equirect`, `Cross` or `Faces`)"),
-        ("SamplerKind", "a sampler"),
-        ("PixelPattern", "a pixel pattern"),
-        ("PixelFilter", "a pixel filter"),
-        ("PhongParams", "phong's parameters"),
-        ("EnvlightParams", "envlight's parameters"),
-        ("PpmParams", "ppm's parameters"),
-        ("DebugParams", "debug's parameters"),
-        ("EnvStrategy", "an environment sampling strategy"),
-        ("DebugMode", "a debug mode"),
-        ("HeatCount", "a heat count"),
-        ("PpmMode", "a ppm mode"),
-        ("PhotonLookup", "a photon lookup"),
-        ("V3", "a vector"),
-    ];
-    let mut out = s.to_string();
-    for (ty, words) in NAMES {
-        out = out.replace(&format!("`{ty}`"), words);
-        for kind in ["struct", "enum"] {
-            out = out.replace(&format!("{kind} {ty}"), words);
-        }
-    }
-    out
 }
 
 /// 1-based line and column of byte `offset` in `text`.

@@ -10,7 +10,7 @@ pub fn compose(ops: &[TransformOp], context: &str) -> Result<Affine3A> {
     for op in ops {
         m *= op_matrix(op, context)?;
     }
-    check_affine(&m, context)?;
+    crate::math::check_affine(&m, context)?;
     Ok(m)
 }
 
@@ -73,17 +73,4 @@ fn op_matrix(op: &TransformOp, context: &str) -> Result<Affine3A> {
             Affine3A::from_mat4(m)
         }
     })
-}
-
-/// Reject transforms that cannot be inverted (normals and object-space intersection need the inverse).
-pub fn check_affine(m: &Affine3A, context: &str) -> Result<()> {
-    let det = m.matrix3.determinant();
-    if !det.is_finite() || !m.translation.is_finite() {
-        return Err(bad(context, "transform is not finite"));
-    }
-    let scale = m.matrix3.x_axis.length() * m.matrix3.y_axis.length() * m.matrix3.z_axis.length();
-    if det == 0.0 || det.abs() <= 1e-12 * scale {
-        return Err(bad(context, "transform is singular (it flattens space)"));
-    }
-    Ok(())
 }

@@ -25,6 +25,10 @@ pub use normal_map::{bump_normal, normal_map_normal, tangent_frame};
 pub use resolve::{bsdf, bsdf_into};
 pub use set::MaterialSet;
 
+/// Index of a material in the scene's material table.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct MaterialId(pub u32);
+
 use crate::bsdf::MAX_LOBES;
 use crate::texture::{ColorParam, ScalarParam};
 

@@ -1,9 +1,11 @@
 //! Small math helpers shared by geometry, materials and integrators: orthonormal frames, optics (reflection,
 //! refraction, Fresnel), colour luminance.
 
+mod affine;
 mod frame;
 mod optics;
 
+pub use affine::check_affine;
 pub use frame::Frame;
 pub use optics::{fresnel_dielectric, reflect, refract};
 

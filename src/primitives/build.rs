@@ -1,54 +1,60 @@
-//! Building the primitives from the scene's entities (the BuildAccel stage): every entity with a `Shape` flattened
-//! into world space — mesh triangles with their shading data, tangents and alpha masks, analytic shapes with their
-//! transforms, planes — each checked against Prism's coordinate limit and for degenerate input, with the errors
-//! naming the entity; and, per entity with an area light, the primitives it emits from.
+//! Building the primitives from the scene's shapes (the BuildAccel stage): every shape flattened into world space —
+//! mesh triangles with their shading data, tangents and alpha masks, analytic shapes with their transforms, planes
+//! — each checked against Prism's coordinate limit and for degenerate input, with the errors naming the shape's
+//! owner; and, per shape that is an area light, the primitives it emits from. The engine gathers the shapes from
+//! the scene's entities ([`ShapeInstance`]).
 
 use super::{EntityPrims, NO_LIGHT, NO_TANGENTS, PlaneGeom, Primitives, TriShading, triangle_normal};
-use crate::components::{Light, MaterialId, Shape, WorldFromLocal};
+use crate::alpha::AlphaMask;
 use crate::error::{PrismError, Result};
 use crate::geometry::Bounds;
 use crate::mesh::MeshStore;
-use crate::shapes::{BezierPatch, Revolution, ShapeRef, SphereGeom};
+use crate::shapes::{BezierPatch, Revolution, Shape, ShapeRef, SphereGeom};
 use glam::{Affine3A, DAffine3, DMat3, Vec2, Vec3, Vec3A};
 
+/// One shape to flatten, placed in the world: what an entity with a `Shape` component carries.
+#[derive(Clone, Copy, Debug)]
+pub struct ShapeInstance<'a> {
+    /// The geometry, in its local frame.
+    pub shape: &'a Shape,
+    /// The composed transform from the shape's frame to world space.
+    pub world_from_local: Affine3A,
+    /// Index of its material in the scene's material table.
+    pub material: u32,
+    /// Whether the shape is an area light (it then gets a light slot).
+    pub area_light: bool,
+    /// The alpha mask cutting holes into it (triangles and meshes only).
+    pub alpha: Option<&'a AlphaMask>,
+    /// Whether anything reads the surface's texture coordinates (spheres skip computing them otherwise).
+    pub surface_coordinates: bool,
+    /// Whether its material is normal-mapped (meshes then carry MikkTSpace tangents).
+    pub tangents: bool,
+}
+
 impl Primitives {
-    /// Flatten every entity with a shape. Returns the primitives and, per entity with an area light, its prims.
+    /// Flatten `shapes` in order. `label(i)` names the owner of `shapes[i]` in errors. Returns the primitives and,
+    /// per area light in light-slot order, the index of its shape and its primitives.
     pub fn build(
-        world: &hecs::World,
+        shapes: &[ShapeInstance<'_>],
         meshes: &MeshStore,
-        materials: &[crate::material::Material],
-    ) -> Result<(Self, Vec<(hecs::Entity, EntityPrims)>)> {
-        let num_materials = materials.len() as u32;
+        label: impl Fn(usize) -> String,
+    ) -> Result<(Self, Vec<(usize, EntityPrims)>)> {
         let mut prims = Primitives::default();
         let mut emitters = Vec::new();
-        let mut q = world.query::<(
-            hecs::Entity,
-            &Shape,
-            Option<&WorldFromLocal>,
-            Option<&MaterialId>,
-            Option<&Light>,
-            Option<&crate::alpha::AlphaMask>,
-        )>();
-        let mut items: Vec<_> = q.iter().collect();
-        // Entity order is deterministic already; sort by id so the primitive order does not depend on archetypes.
-        items.sort_by_key(|(e, ..)| e.id());
-        for (entity, shape, wfl, mat, light, alpha) in items {
-            let m = wfl.map(|w| w.0).unwrap_or(Affine3A::IDENTITY);
-            let material = mat.map(|m| m.0).unwrap_or(0).min(num_materials.saturating_sub(1));
-            let emits = matches!(light, Some(Light::Area { .. }));
+        for (index, item) in shapes.iter().enumerate() {
+            let ShapeInstance { shape, world_from_local: m, material, area_light: emits, alpha, .. } = *item;
             let light_slot = if emits { emitters.len() as u32 } else { NO_LIGHT };
             let first_tri = prims.num_tris();
             let mut sphere = None;
             let mut curved = None;
-            let name = || crate::load::entity_label(world, entity);
+            let name = || label(index);
             match shape {
                 Shape::Sphere { center, radius } => {
                     sphere = Some(prims.spheres.len() as u32);
                     prims.analytic.push(ShapeRef::Sphere(prims.spheres.len() as u32));
                     // Texture coordinates only where something reads them (the material, or the light's
                     // textured radiance and sampling density).
-                    let coordinates =
-                        emits || materials.get(material as usize).is_none_or(|x| x.uses_surface_coordinates(materials));
+                    let coordinates = emits || item.surface_coordinates;
                     let geom = SphereGeom::new(&m, (*center).into(), *radius, material, light_slot);
                     prims.spheres.push(SphereGeom { coordinates, ..geom });
                     let b = prims.prim_bounds(prims.num_bounded() - 1);
@@ -125,10 +131,7 @@ impl Primitives {
                     let world_n: Vec<Vec3A> = mesh.normals.iter().map(|&q| transform_normal(&m, q.into())).collect();
                     // Tangents only for normal-mapped meshes: object-space MikkTSpace, carried to world space (a
                     // mirroring transform flips the bitangent sign).
-                    let tangents = materials
-                        .get(material as usize)
-                        .is_some_and(|mat| mat.needs_tangents())
-                        .then(|| crate::mesh_tangents::corner_tangents(mesh));
+                    let tangents = item.tangents.then(|| crate::mesh_tangents::corner_tangents(mesh));
                     let det_sign = m.matrix3.determinant().signum();
                     for (f, idx) in mesh.indices.iter().enumerate() {
                         let v = idx.map(|i| world_pos[i as usize]);
@@ -182,7 +185,7 @@ impl Primitives {
                 if tri_count == 0 && sphere.is_none() && curved.is_none() {
                     return Err(PrismError::scene(name(), "area light has no surface (all triangles degenerate)"));
                 }
-                emitters.push((entity, EntityPrims { first_tri, tri_count, sphere, curved }));
+                emitters.push((index, EntityPrims { first_tri, tri_count, sphere, curved }));
             }
         }
         if !prims.tri_alpha.is_empty() {

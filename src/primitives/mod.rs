@@ -11,17 +11,18 @@
 //! [`Primitives::analytic_clip_bounds`] and [`Primitives::surface`]. Planes are unbounded and are never put in an
 //! accelerator.
 
-use crate::geometry::{Bounds, Ray, WatertightRay, gamma, intersect_plane, spawn_ray, spawn_ray_to};
-use crate::lights::LightSample;
+use crate::geometry::{Bounds, Ray, WatertightRay, gamma, intersect_plane};
 use crate::math::Frame;
 use crate::shapes::{AnalyticShape, BezierPatch, Revolution, ShapeHit, ShapePoint, ShapeRef};
 use glam::{Vec2, Vec3, Vec3A};
 
+mod alpha_holes;
 mod build;
 mod occluders;
 
+pub use crate::geometry::{Hit, SurfaceHit};
 pub use crate::shapes::{SphereGeom, SphereTransform, sphere_point_error, sphere_uv};
-pub use build::to_f64;
+pub use build::{ShapeInstance, to_f64};
 pub use occluders::{MAX_OCCLUDERS, Occluders, dvec};
 
 /// Marks "no area light" in `light` fields.
@@ -58,38 +59,6 @@ pub struct PlaneGeom {
     pub normal: Vec3A,
     pub offset: f32,
     pub material: u32,
-}
-
-/// A closest hit found by an accelerator. For triangles `b1`, `b2` are the barycentric weights of vertices 1 and
-/// 2; for curved surfaces their two parameters ([`ShapeHit`]); unused otherwise.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Hit {
-    pub t: f32,
-    pub prim: u32,
-    pub b1: f32,
-    pub b2: f32,
-}
-
-/// Everything an integrator needs to know about a surface point.
-#[derive(Clone, Copy, Debug)]
-pub struct SurfaceHit {
-    pub p: Vec3A,
-    /// Conservative absolute floating-point error bound of `p`, per coordinate (for robust ray spawning).
-    pub p_err: Vec3A,
-    /// Geometric normal (unit), oriented by the primitive (triangle winding, sphere outward, plane normal).
-    pub ng: Vec3A,
-    /// Shading normal (unit), on the same side as `ng`.
-    pub ns: Vec3A,
-    /// Surface parameterisation at the point (texture coordinates).
-    pub uv: Vec2,
-    /// Partial derivatives of the position with respect to u and v (world space, not normalised): from the
-    /// triangle's uvs, the sphere's and the plane's parameterisations. Texturing and normal mapping use them.
-    pub dpdu: Vec3A,
-    pub dpdv: Vec3A,
-    pub t: f32,
-    pub prim: u32,
-    pub material: u32,
-    pub light: u32,
 }
 
 #[derive(Clone, Debug, Default)]
@@ -145,24 +114,6 @@ macro_rules! with_shape {
             }
         }
     };
-}
-
-impl SurfaceHit {
-    /// A ray leaving this point in unit direction `dir`, offset off the surface.
-    #[inline]
-    pub fn spawn(&self, dir: Vec3A) -> Ray {
-        spawn_ray(self.p, self.p_err, self.ng, dir).leaving(self.prim)
-    }
-
-    /// A shadow ray from this point to a light sample (both ends offset off their surfaces).
-    #[inline(always)]
-    pub fn spawn_to(&self, ls: &LightSample) -> Ray {
-        if ls.dist.is_finite() {
-            spawn_ray_to(self.p, self.p_err, self.ng, ls.p, ls.p_err, ls.n).leaving(self.prim)
-        } else {
-            self.spawn(ls.wi)
-        }
-    }
 }
 
 /// Error bound of a barycentric combination `b0 p0 + b1 p1 + b2 p2` (pbrt-v4: gamma(7) times the sum of magnitudes).

@@ -13,7 +13,10 @@
 //! film, its progress and the integrator's state, then continues with the next pass. Checkpoints and interruptions
 //! save the film (complete passes only) beside the first image output, so no work is lost.
 
+mod flatten;
 mod progress;
+
+pub use flatten::{flatten_shapes, place_lights};
 
 pub use progress::ProgressReporter;
 
@@ -26,7 +29,7 @@ use crate::film::{Film, FilmHeader, ShardAxis, read_film, write_film};
 use crate::integrator::{PassInfo, PassOutput};
 use crate::io::{Image, write_image};
 use crate::lights::LightSet;
-use crate::primitives::{EntityPrims, Primitives};
+use crate::primitives::EntityPrims;
 use crate::scene::Scene;
 use hecs::World;
 use std::sync::atomic::Ordering;
@@ -43,7 +46,7 @@ pub fn build_scene_system(world: &mut World, res: &mut Resources) -> Result<()> 
         CameraRig::new(cam, &wfl.map(|w| w.0).unwrap_or_default())
             .ok_or_else(|| PrismError::invalid("camera: eye, target and up do not define a view"))?
     };
-    let (prims, emitters) = Primitives::build(world, &res.meshes, &res.materials).map_err(|e| in_scene_file(res, e))?;
+    let (prims, emitters) = flatten_shapes(world, &res.meshes, &res.materials).map_err(|e| in_scene_file(res, e))?;
     if prims.skipped_degenerate > 0 {
         eprintln!("warning: skipped {} degenerate (zero-area or non-finite) mesh triangles", prims.skipped_degenerate);
     }
@@ -83,7 +86,7 @@ pub fn in_scene_file(res: &Resources, e: PrismError) -> PrismError {
 
 pub fn build_lights_system(world: &mut World, res: &mut Resources) -> Result<()> {
     let emitters = res.get::<Emitters>().map(|e| e.0.clone()).unwrap_or_default();
-    let lights = LightSet::build(world, &res.scene()?.prims, &emitters).map_err(|e| in_scene_file(res, e))?;
+    let lights = place_lights(world, &res.scene()?.prims, &emitters).map_err(|e| in_scene_file(res, e))?;
     if let Some(scene) = res.scene.as_mut() {
         scene.lights = lights;
     }
@@ -248,7 +251,7 @@ pub fn accumulate_system(_world: &mut World, res: &mut Resources) -> Result<()> 
         )));
     }
     let complete = match &out {
-        PassOutput::Samples(tiles) => tiles.len() == crate::integrator::tiles(film.width, film.height).len(),
+        PassOutput::Samples(tiles) => tiles.len() == crate::film::tiles(film.width, film.height).len(),
         PassOutput::Estimate { complete, .. } => *complete,
     };
     film.merge(&out, complete);

@@ -142,7 +142,7 @@ impl Default for RenderJob<'_> {
 
 impl RenderJob<'_> {
     fn app(&self) -> App {
-        let mut app = App::with_default_plugins();
+        let mut app = App::with(crate::DefaultPlugins);
         app.resources.source = SceneSource::File(self.scene.to_path_buf());
         app.resources.overrides = Overrides {
             integrator: self.integrator.map(String::from),

@@ -23,6 +23,7 @@ pub mod patch;
 pub mod profile_tree;
 pub mod revolution;
 pub mod revolution_seeds;
+mod shape;
 pub mod sphere;
 pub mod strip;
 pub mod tessellate;
@@ -30,6 +31,7 @@ pub mod tessellate;
 pub use curve::{Curve, CurveKind};
 pub use patch::BezierPatch;
 pub use revolution::Revolution;
+pub use shape::Shape;
 pub use sphere::{SphereGeom, SphereTransform, sphere_point_error, sphere_uv};
 
 use crate::geometry::{Bounds, Ray};

@@ -3,8 +3,8 @@
 //! the contribution `f Li |cos| w / pdf` with `w` the power heuristic against the BSDF's density for the same
 //! direction (1 for delta lights, which BSDF sampling cannot reach, and when MIS is off).
 
-use super::LightSampler;
 use crate::bsdf::Bsdf;
+use crate::lights::LightSampler;
 use crate::primitives::SurfaceHit;
 use crate::sampling::power_heuristic;
 use crate::scene::Scene;
@@ -21,7 +21,7 @@ impl LightSampler {
             return Vec3::ZERO;
         };
         let (f, bsdf_pdf) = bsdf.eval_pdf(ls.wi);
-        if f == Vec3::ZERO || ls.pdf <= 0.0 || (!self.proven_clear(s, slot) && scene.occluded(&s.spawn_to(&ls))) {
+        if f == Vec3::ZERO || ls.pdf <= 0.0 || (!self.proven_clear(s, slot) && scene.occluded(&ls.shadow_ray(s))) {
             return Vec3::ZERO;
         }
         let w = if ls.delta || !mis { 1.0 } else { power_heuristic(ls.pdf, bsdf_pdf) };

@@ -1,0 +1,61 @@
+//! What a pass hands the film: the image cut into tiles, and per tile the radiance sums and sample counts of its
+//! pixels (or, for methods whose estimate is not a mean of samples, a whole image).
+
+use glam::Vec3;
+
+/// Side of the square tiles passes render (the last row and column of tiles may be smaller).
+pub const TILE_SIZE: u32 = 16;
+
+/// The image cut into `TILE_SIZE` tiles, row by row.
+pub fn tiles(width: u32, height: u32) -> Vec<Tile> {
+    let mut out = Vec::new();
+    for y0 in (0..height).step_by(TILE_SIZE as usize) {
+        for x0 in (0..width).step_by(TILE_SIZE as usize) {
+            out.push(Tile { x0, y0, w: TILE_SIZE.min(width - x0), h: TILE_SIZE.min(height - y0) });
+        }
+    }
+    out
+}
+
+/// A rectangle of pixels.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Tile {
+    pub x0: u32,
+    pub y0: u32,
+    pub w: u32,
+    pub h: u32,
+}
+
+/// Radiance sums of one tile for one pass: `sums[y * w + x]` holds the sum of `counts[y * w + x]` samples (the
+/// same count everywhere unless the render is adaptive).
+#[derive(Clone, Debug)]
+pub struct TileSamples {
+    pub tile: Tile,
+    pub counts: Vec<u32>,
+    pub sums: Vec<Vec3>,
+    /// Samples that came out NaN or infinite and were replaced by 0 (reported in the render summary).
+    pub nonfinite: u32,
+}
+
+impl TileSamples {
+    /// Whether the tile lies inside a `width` x `height` image and holds one sum and one count per pixel (a
+    /// plugin's tiles are checked before they reach the film).
+    pub fn fits(&self, width: u32, height: u32) -> bool {
+        let t = self.tile;
+        let n = t.w as u64 * t.h as u64;
+        t.x0 as u64 + t.w as u64 <= width as u64
+            && t.y0 as u64 + t.h as u64 <= height as u64
+            && self.sums.len() as u64 == n
+            && self.counts.len() as u64 == n
+    }
+}
+
+/// The result of one pass.
+#[derive(Clone, Debug)]
+pub enum PassOutput {
+    /// Sample sums to add to the film (tiles not rendered because of cancellation are simply absent).
+    Samples(Vec<TileSamples>),
+    /// A complete image estimate that replaces the film's content (for methods whose estimate is not a mean of
+    /// independent samples, such as progressive photon mapping). `complete` is false if the pass was cut short.
+    Estimate { image: Vec<Vec3>, complete: bool },
+}
