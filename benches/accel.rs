@@ -6,7 +6,7 @@
 //!   what to quote on a machine whose speed drifts.
 //! - `build/<scene>`, `closest/<scene>`, `bounce/<scene>`, `occlusion/<scene>`: build time, and closest-hit
 //!   Mrays/s for camera rays (128 x 128 pixel centres) and diffuse-bounce rays, and occlusion Mrays/s for shadow
-//!   rays (`prism::accel::ray_sets`) for the grid (automatic resolution), the kd-tree and the BVH, plus brute
+//!   rays (`prism::ray_sets`) for the grid (automatic resolution), the kd-tree and the BVH, plus brute
 //!   force on at most 1000 primitives, over the 6.837 bunnies (200, 1k, 5k, 40k triangles), the Stanford bunny
 //!   (69k), the dragon (100k) and the teapot in a stadium (the teapot inside a box 10^4 times larger).
 //!
@@ -16,11 +16,11 @@ use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_m
 use glam::{Vec2, Vec3A};
 use obvhs::{BvhBuildParams, ray::RayHit, triangle::Triangle};
 use prism::accel::Accel;
-use prism::accel::ray_sets::{camera_rays, secondary_rays};
 use prism::app::{App, SceneSource};
 use prism::camera::CameraRig;
 use prism::components::{Camera, Projection};
 use prism::geometry::Ray;
+use prism::ray_sets::{camera_rays, secondary_rays};
 use prism::sampling::{Rng, warp};
 use prism::scene::Scene;
 use prism::settings::{AccelKind, GridResolution, Overrides};

@@ -13,10 +13,10 @@
 //!    BVH build of those meshes.
 
 use criterion::{Criterion, Throughput};
-use prism::accel::ray_sets::{camera_rays, secondary_rays};
 use prism::app::{App, SceneSource};
 use prism::chart::{Chart, Series};
 use prism::geometry::Ray;
+use prism::ray_sets::{camera_rays, secondary_rays};
 use prism::settings::{AccelKind, Overrides};
 use std::hint::black_box;
 use std::path::PathBuf;
@@ -92,7 +92,7 @@ fn app(text: &str) -> App {
 fn render(text: &str) -> (prism::io::Image, f64, f64, u32) {
     let mut a = app(text);
     a.run().expect("render");
-    let img = prism::render::film_image(&a.resources).unwrap();
+    let img = prism::stages::film_image(&a.resources).unwrap();
     let p = &a.resources.progress;
     let n = a.resources.scene.as_ref().map_or(0, |s| s.prims.num_bounded());
     (img, p.elapsed.as_secs_f64(), p.setup.as_secs_f64(), n)

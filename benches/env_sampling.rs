@@ -40,7 +40,7 @@ fn render(text: &str, integrator: &str, spp: u32, seed: u64) -> Image {
     app.resources.overrides =
         Overrides { integrator: Some(integrator.into()), spp: Some(spp), seed: Some(seed), ..Default::default() };
     app.run().expect("render");
-    prism::render::film_image(&app.resources).unwrap()
+    prism::stages::film_image(&app.resources).unwrap()
 }
 
 fn main() {

@@ -27,9 +27,9 @@
 mod robust_block;
 
 use multiversion::multiversion;
-use prism::accel::ray_sets::{camera_rays, secondary_rays};
 use prism::app::{App, SceneSource};
 use prism::geometry::Ray;
+use prism::ray_sets::{camera_rays, secondary_rays};
 use std::hint::black_box;
 use std::path::PathBuf;
 use std::time::Instant;

@@ -1,7 +1,7 @@
 //! The plugins the `prism` binary ships: the engine's stage systems, the scene loaders and every built-in integrator
 //! (`phong`, `envlight`, `ppm`, `debug`). It lives at the top of the crate graph, so the engine names no plugin.
 
-use crate::app::{App, CorePlugin, Plugin};
+use prism_engine::{App, CorePlugin, Plugin};
 
 /// Every built-in plugin: `App::with(DefaultPlugins)` renders any scene the binary renders.
 pub struct DefaultPlugins;
@@ -13,10 +13,10 @@ impl Plugin for DefaultPlugins {
 
     fn build(&self, app: &mut App) {
         app.add_plugin(CorePlugin);
-        app.add_plugin(crate::load::LoadPlugin);
-        app.add_plugin(crate::plugins::phong::PhongPlugin);
-        app.add_plugin(crate::plugins::envlight::EnvlightPlugin);
-        app.add_plugin(crate::plugins::ppm::PpmPlugin);
-        app.add_plugin(crate::plugins::debug::DebugPlugin);
+        app.add_plugin(prism_load::LoadPlugin);
+        app.add_plugin(prism_phong::PhongPlugin);
+        app.add_plugin(prism_envlight::EnvlightPlugin);
+        app.add_plugin(prism_ppm::PpmPlugin);
+        app.add_plugin(prism_debug::DebugPlugin);
     }
 }

@@ -2,54 +2,40 @@
 //!
 //! A physically based CPU ray tracer built as a data-oriented ECS: scene files spawn entities (`hecs`) that carry
 //! transform, shape, material and light components; scheduled systems propagate transforms, flatten shapes into
-//! primitives (triangles, and analytic shapes in [`shapes`]: spheres, ellipsoids, surfaces of revolution and
-//! Bézier patches intersected exactly), build an accelerator (BVH via obvhs, SAH kd-tree, uniform grid, or brute
-//! force), prepare lights and the chosen integrator plugin (`phong`, `envlight`, `debug`), and render progressive
-//! passes into a linear HDR film written as EXR or PNG.
+//! primitives (triangles, and analytic shapes: spheres, ellipsoids, surfaces of revolution and Bézier patches
+//! intersected exactly), build an accelerator (an 8-wide BVH, obvhs's CWBVH, an SAH kd-tree, a uniform grid, or
+//! brute force), prepare lights and the chosen integrator plugin (`phong`, `envlight`, `ppm`, `debug`), and render
+//! progressive passes into an exact, mergeable HDR film written as EXR or PNG.
 //!
-//! Start with [`app::App`] (stages, systems, plugins), [`integrator`] (the interface plugins implement) and the
-//! scene format in the README.
+//! This crate is the facade over the workspace, whose crate graph is the layering
+//! (`core < engine < load < plugins < lab < prism`): it re-exports every crate under the paths users write
+//! (`prism::scene::Scene`, `prism::app::App`, `prism::plugins::ppm`), holds the set of plugins the binary ships
+//! ([`DefaultPlugins`]) and the command line ([`cli`]).
+//!
+//! Start with [`App`] (stages, systems, plugins), [`integrator`] (the interface plugins implement) and the book under
+//! `docs/` (the scene format, the plugin reference, the architecture).
 
-pub mod accel;
-pub mod alpha;
-pub mod app;
-pub mod bsdf;
-pub mod camera;
-pub mod chart;
 pub mod cli;
-pub mod compare;
-pub mod components;
-pub mod converge;
-pub mod cpu_time;
 mod default_plugins;
-pub mod envmap;
-pub mod error;
-pub mod film;
-pub mod fuzz;
-pub mod geometry;
-pub mod integrator;
-pub mod io;
-pub mod lights;
-pub mod limits;
-pub mod load;
-pub mod material;
-pub mod math;
-pub mod mesh;
-pub mod mesh_tangents;
-pub mod primitives;
-pub mod propagate;
-pub mod render;
-pub mod report;
-pub mod ron_error;
-pub mod sampling;
-pub mod scene;
-pub mod settings;
-pub mod shapes;
-pub mod texture;
 
-#[path = "../plugins/mod.rs"]
-pub mod plugins;
-
-pub use app::{App, Plugin, Resources, Stage};
 pub use default_plugins::DefaultPlugins;
-pub use error::{PrismError, Result};
+
+pub use prism_core::{
+    PrismError, Result, accel, alpha, bsdf, camera, cpu_time, envmap, error, film, geometry, integrator, io, lights,
+    limits, material, math, mesh, mesh_tangents, primitives, ron_error, sampling, scene, settings, shapes, texture,
+};
+pub use prism_engine::{App, Plugin, Resources, Stage, components, stages};
+pub use prism_lab::{accel_bench, chart, compare, converge, fuzz, ray_file, ray_sets, report};
+
+/// The engine: [`App`], [`Plugin`], the schedule, the resources (`prism_engine`).
+pub use prism_engine as app;
+/// The scene loaders (`prism_load`).
+pub use prism_load as load;
+
+/// The integrator plugins the binary ships, one crate each.
+pub mod plugins {
+    pub use prism_debug as debug;
+    pub use prism_envlight as envlight;
+    pub use prism_phong as phong;
+    pub use prism_ppm as ppm;
+}

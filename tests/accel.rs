@@ -6,10 +6,10 @@
 
 use crate::common::{app_from_file, app_from_ron, data};
 use glam::Vec3A;
-use prism::accel::ray_sets::{camera_rays, secondary_rays};
 use prism::accel::{Accel, KdTree, TraversalWork, UniformGrid};
 use prism::geometry::{Ray, WatertightRay};
 use prism::primitives::Hit;
+use prism::ray_sets::{camera_rays, secondary_rays};
 use prism::sampling::{Rng, warp};
 use prism::scene::Scene;
 use prism::settings::{AccelKind, GridResolution, Overrides};

@@ -4,8 +4,8 @@
 
 use crate::accel::{scene, setup_file};
 use crate::common::data;
-use prism::accel::ray_sets::{camera_rays, secondary_rays};
 use prism::geometry::Ray;
+use prism::ray_sets::{camera_rays, secondary_rays};
 use prism::settings::AccelKind;
 
 #[test]
@@ -83,7 +83,7 @@ fn prism_bench_prints_the_table_and_writes_the_chart() {
 /// truncated file is refused on reading.
 #[test]
 fn prism_bench_exports_its_rays_and_brute_force_answers() {
-    use prism::accel::ray_file::{MISS, RaySetFile};
+    use prism::ray_file::{MISS, RaySetFile};
     let dir = crate::common::scratch("export-rays");
     let scene_path = data("mit6837/assignment5/bunny_200.obj");
     let args = ["bench", scene_path.to_str().unwrap(), "--accel", "bvh", "--seconds", "0.01", "--size", "24"];

@@ -25,7 +25,7 @@ fn cornell_in_passes(spp: u32, adaptive: bool, passes: Option<u32>) -> (prism::i
     };
     let mut app = app_from_file(&scene_path("cornell_box.ron"), o);
     app.run().unwrap();
-    let img = prism::render::film_image(&app.resources).unwrap();
+    let img = prism::stages::film_image(&app.resources).unwrap();
     let counts = app.resources.film.as_ref().unwrap().parts().1.to_vec();
     (img, counts)
 }

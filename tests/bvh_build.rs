@@ -2,8 +2,8 @@
 //! answering every ray as brute force does, and the one of lower surface-area cost kept.
 
 use crate::accel::{assert_matches_brute, bunny_scene_text, rays, scene, setup_file, setup_ron};
-use prism::accel::ray_sets::secondary_rays;
 use prism::accel::{Accel, BvhCandidate, SPLIT_SAMPLES_PER_PRIMITIVE, SpatialSplits, WideBvh};
+use prism::ray_sets::secondary_rays;
 use prism::settings::AccelKind;
 
 /// The bunny with spheres, ellipsoids and planes, as every accelerator is tested: both candidate trees agree with

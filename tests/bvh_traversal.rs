@@ -6,10 +6,10 @@ use crate::accel::{
     accelerators, assert_matches_brute, bunny_scene_text, rays, same_hit, scene, setup_file, setup_ron,
 };
 use glam::Vec3A;
-use prism::accel::ray_sets::secondary_rays;
 use prism::accel::{Accel, TraversalWork, WideBvh};
 use prism::geometry::{NO_PRIM, Ray};
 use prism::primitives::Hit;
+use prism::ray_sets::secondary_rays;
 use prism::sampling::{Rng, warp};
 use prism::scene::Scene;
 use prism::settings::AccelKind;

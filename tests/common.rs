@@ -49,13 +49,13 @@ pub fn app_from_file(path: &Path, overrides: Overrides) -> App {
 pub fn render_ron(text: &str, overrides: Overrides) -> Image {
     let mut app = app_from_ron(text, overrides);
     app.run().unwrap_or_else(|e| panic!("render failed: {e}"));
-    prism::render::film_image(&app.resources).unwrap()
+    prism::stages::film_image(&app.resources).unwrap()
 }
 
 pub fn render_file(path: &Path, overrides: Overrides) -> Image {
     let mut app = app_from_file(path, overrides);
     app.run().unwrap_or_else(|e| panic!("render of {} failed: {e}", path.display()));
-    prism::render::film_image(&app.resources).unwrap()
+    prism::stages::film_image(&app.resources).unwrap()
 }
 
 pub fn spp(n: u32) -> Overrides {

@@ -54,7 +54,7 @@ fn same_seed_same_image_different_seed_different_noise() {
             Overrides { size: Some((32, 32)), spp: Some(2), seed: Some(seed), ..Default::default() },
         );
         app.run().unwrap();
-        prism::render::film_image(&app.resources).unwrap()
+        prism::stages::film_image(&app.resources).unwrap()
     };
     assert_eq!(render(1), render(1));
     assert_ne!(render(1), render(2));

@@ -17,7 +17,7 @@ fn every_input_that_once_crashed_a_fuzz_target_now_returns() {
         for f in files {
             let data = std::fs::read(&f).unwrap();
             let t0 = Instant::now();
-            let run = std::panic::catch_unwind(|| entry(&data));
+            let run = std::panic::catch_unwind(|| entry(&data, &prism::DefaultPlugins));
             assert!(run.is_ok(), "{name}: {} panics", f.display());
             let took = t0.elapsed();
             assert!(took < Duration::from_secs(20), "{name}: {} takes {took:?} (a hang before its fix)", f.display());
@@ -33,7 +33,7 @@ fn every_fuzz_target_has_a_corpus_directory_and_a_target_file() {
         assert!(root().join("tests/fuzz_corpus").join(name).is_dir(), "tests/fuzz_corpus/{name} is missing");
         assert!(root().join("fuzz/fuzz_targets").join(format!("{name}.rs")).is_file(), "fuzz target {name} is missing");
         // The entry points accept anything, the empty input included.
-        entry(&[]);
-        entry(b"\xff\xfe\x00garbage(((");
+        entry(&[], &prism::DefaultPlugins);
+        entry(b"\xff\xfe\x00garbage(((", &prism::DefaultPlugins);
     }
 }

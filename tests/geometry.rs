@@ -507,7 +507,7 @@ fn orthonormal_frames_are_right_handed_for_every_normal() {
 fn transform_operations_compose_like_matrix_products() {
     use glam::{Affine3A, Vec3};
     use prism::load::compose;
-    use prism::load::desc::TransformOp::*;
+    use prism::load::schema::TransformOp::*;
     let close =
         |a: Affine3A, b: Affine3A| a.to_cols_array().iter().zip(b.to_cols_array()).all(|(x, y)| (x - y).abs() < 1e-5);
     // Euler (x, y, z) degrees = Rz * Ry * Rx.

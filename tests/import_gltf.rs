@@ -208,7 +208,7 @@ fn a_gltf_cornell_box_renders_like_the_ron_cornell_box_within_noise_and_stores_i
     let path = cornell_gltf();
     let mut app = app_from_file(&path, over(0));
     app.run().unwrap();
-    let g = prism::render::film_image(&app.resources).unwrap();
+    let g = prism::stages::film_image(&app.resources).unwrap();
     // Four quad meshes and one cube mesh, though the cube is used twice.
     assert_eq!(app.resources.meshes.len(), 5, "a mesh used by two nodes is stored once");
     let noise = compare(&r1, &r0).unwrap();

@@ -5,9 +5,9 @@
 
 use crate::common::{app_from_file, data, render_file, scratch, spp};
 use prism::lights::{SpotLight, SpotProfile};
-use prism::load::desc::{LightDesc, MaterialDesc, ScalarDesc, SceneDesc};
 use prism::load::parse_scene;
 use prism::load::pbrt::{convert_file, roughness_to_alpha_v3, spectrum};
+use prism::load::schema::{LightDesc, MaterialDesc, ScalarDesc, SceneDesc};
 use prism::settings::Overrides;
 use std::path::{Path, PathBuf};
 
@@ -89,7 +89,7 @@ fn the_caustic_glass_scene_renders_with_photon_mapping_and_a_caustic_under_the_g
     let mut app = app_from_file(&file, over);
     app.run().unwrap();
     assert_eq!(app.resources.settings.integrator.name, "ppm");
-    let img = prism::render::film_image(&app.resources).unwrap();
+    let img = prism::stages::film_image(&app.resources).unwrap();
     assert!(img.pixels.iter().all(|p| p.is_finite()));
     // The glass's shadow on the floor (below the glass in the image) holds the caustic: light focused through
     // the glass makes parts of the shadow brighter than the open, spot-lit floor beside it.

@@ -71,7 +71,7 @@ fn an_integrator_defined_outside_the_crate_renders_through_the_plugin_api() {
     };
     app.run().unwrap();
     assert_eq!(passes_seen.load(Ordering::Relaxed), 2, "the plugin's Accumulate system ran once per pass");
-    let img = prism::render::film_image(&app.resources).unwrap();
+    let img = prism::stages::film_image(&app.resources).unwrap();
     // The centre pixel looks straight at the sphere: facing ratio ~1, times the parameter 0.5.
     let c = img.get(16, 16).x;
     assert!((c - 0.5).abs() < 0.01, "centre {c}");

@@ -330,7 +330,7 @@ fn ten_thousand_iterations_keep_the_radius_positive_and_finite() {
         entities: [(shape: Sphere(), material: \"w\"), (light: Point(intensity: (3, 3, 3), position: (0, 2, 2)))])";
     let mut app = app_from_ron(ron, Overrides { passes: Some(10), ..with("ppm(photons: 16)", 100_000) });
     app.run().unwrap();
-    let img = prism::render::film_image(&app.resources).unwrap();
+    let img = prism::stages::film_image(&app.resources).unwrap();
     assert!(img.pixels.iter().all(|p| p.is_finite()));
     assert!(img.get(2, 2).x > 0.0);
 }

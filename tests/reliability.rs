@@ -205,7 +205,7 @@ fn bvh_on_50000_identical_faces_and_1000_concentric_spheres_is_shallow_and_exact
         // A generous guard against the quadratic build (it took minutes): the fallback takes milliseconds.
         assert!(build < Duration::from_secs(20), "BVH build took {build:?}");
         let brute = Accel::build(AccelKind::Brute, &scene.prims).unwrap();
-        for ray in prism::accel::ray_sets::camera_rays(scene, 8, 8) {
+        for ray in prism::ray_sets::camera_rays(scene, 8, 8) {
             let (a, b) = (bvh.intersect(&scene.prims, &ray), brute.intersect(&scene.prims, &ray));
             assert_eq!(a.map(|h| h.t), b.map(|h| h.t), "closest hit differs from brute force");
             assert_eq!(bvh.occluded(&scene.prims, &ray), brute.occluded(&scene.prims, &ray));

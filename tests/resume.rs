@@ -204,7 +204,7 @@ fn broken_foreign_and_mismatched_films_are_one_line_errors() {
 /// short render, 20 ms of a 0.6 s `ppm` render), then one interval after the last.
 #[test]
 fn the_first_checkpoint_comes_one_interval_into_the_render() {
-    use prism::render::checkpoint_due;
+    use prism::stages::checkpoint_due;
     use std::time::Duration;
     let every = Duration::from_secs(10);
     let s = Duration::from_secs_f64;

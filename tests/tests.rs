@@ -18,6 +18,7 @@ mod debug;
 mod determinism;
 mod envlight;
 mod envmap;
+mod examples;
 mod fuzz_replay;
 mod geometry;
 mod hostile;

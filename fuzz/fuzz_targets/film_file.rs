@@ -1,4 +1,4 @@
-//! Fuzz target `film_file`: arbitrary bytes into `prism::fuzz::film_file` (see `src/fuzz.rs`).
+//! Fuzz target `film_file`: arbitrary bytes into `prism::fuzz::film_file` (see `crates/lab/src/fuzz.rs`).
 #![no_main]
 
-libfuzzer_sys::fuzz_target!(|data: &[u8]| prism::fuzz::film_file(data));
+libfuzzer_sys::fuzz_target!(|data: &[u8]| prism::fuzz::film_file(data, &prism::DefaultPlugins));

@@ -1,4 +1,4 @@
-//! Fuzz target `hdr_image`: arbitrary bytes into `prism::fuzz::hdr_image` (see `src/fuzz.rs`).
+//! Fuzz target `hdr_image`: arbitrary bytes into `prism::fuzz::hdr_image` (see `crates/lab/src/fuzz.rs`).
 #![no_main]
 
-libfuzzer_sys::fuzz_target!(|data: &[u8]| prism::fuzz::hdr_image(data));
+libfuzzer_sys::fuzz_target!(|data: &[u8]| prism::fuzz::hdr_image(data, &prism::DefaultPlugins));

@@ -12,10 +12,10 @@
 //! ray sets and BVH answers to `DIR/STEM.prism-rays` (`accel/ray_file.rs`), for timing another engine on the same
 //! rays (`benches/embree/`).
 
-use crate::accel::bench::{BenchOptions, bench_scene, chart_of, table};
-use crate::error::PrismError;
-use crate::settings::AccelKind;
 use clap::Args;
+use prism_core::error::PrismError;
+use prism_core::settings::AccelKind;
+use prism_lab::accel_bench::{BenchOptions, bench_scene, chart_of, table};
 use std::path::PathBuf;
 
 #[derive(Args, Debug, Clone)]
@@ -72,27 +72,27 @@ fn parse_kinds(s: &str, grid: Option<&[u32]>) -> Result<Vec<AccelKind>, PrismErr
 }
 
 pub fn run(args: BenchArgs) -> anyhow::Result<()> {
-    crate::limits::threads(args.threads)?;
-    if args.size == 0 || args.size > crate::limits::MAX_BENCH_SIZE {
+    prism_core::limits::threads(args.threads)?;
+    if args.size == 0 || args.size > prism_core::limits::MAX_BENCH_SIZE {
         return Err(PrismError::invalid(format!(
             "--size must be between 1 and {}, got {}",
-            crate::limits::MAX_BENCH_SIZE,
+            prism_core::limits::MAX_BENCH_SIZE,
             args.size
         ))
         .into());
     }
-    let min = crate::limits::seconds(args.seconds, "--seconds")?;
+    let min = prism_core::limits::seconds(args.seconds, "--seconds")?;
     if min.is_zero() {
         return Err(PrismError::invalid("--seconds must be positive").into());
     }
     let kinds = parse_kinds(&args.accel, args.grid.as_deref())?;
     // Outputs are checked before the (long) measurements: the chart's directory is writable and no output is a scene.
     if let Some(chart) = &args.chart {
-        crate::io::check_outputs(std::slice::from_ref(chart), &args.scenes)?;
+        prism_core::io::check_outputs(std::slice::from_ref(chart), &args.scenes)?;
     }
     if let Some(dir) = &args.export_rays {
         std::fs::create_dir_all(dir).map_err(|e| PrismError::io(dir, e))?;
-        crate::io::check_writable_dir(&dir.join("rays.prism-rays"))?;
+        prism_core::io::check_writable_dir(&dir.join("rays.prism-rays"))?;
     }
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(args.threads)
@@ -107,7 +107,7 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
     };
     let mut rows = Vec::new();
     for path in &args.scenes {
-        rows.extend(bench_scene(path, &opts, &pool)?);
+        rows.extend(bench_scene(path, &opts, &pool, &crate::DefaultPlugins)?);
     }
     super::print_stdout(&format!("{}\n", table(&rows, args.threads, args.size)))?;
     if let Some(chart) = &args.chart {

@@ -1,8 +1,8 @@
 //! `prism compare TEST REF [--json]`: the metrics of `compare.rs`, and where the squared error lies (the share of
 //! it in the worst 0.1%, 1% and 10% of the pixels).
 
-use crate::compare::{compare, error_concentration};
-use crate::io::read_image;
+use prism_core::io::read_image;
+use prism_lab::compare::{compare, error_concentration};
 use std::path::Path;
 
 pub fn run(test: &Path, reference: &Path, json: bool) -> anyhow::Result<()> {

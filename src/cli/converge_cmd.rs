@@ -1,11 +1,11 @@
 //! `prism converge SCENE --reference REF.exr --integrator A [--integrator B ...] (--spp 1,4,16 | --times 1,2,4)
 //! -o DIR [--peer curves.csv --peer-scene cornell --peer-variant llvm_ad_rgb]`: error-vs-budget curves.
 
-use crate::converge::{Budget, PeerCurve, measure, read_peer, time_to_error, write_results};
-use crate::error::PrismError;
-use crate::io::read_image;
-use crate::settings::Overrides;
 use clap::Args;
+use prism_core::error::PrismError;
+use prism_core::io::read_image;
+use prism_core::settings::Overrides;
+use prism_lab::converge::{Budget, PeerCurve, measure, read_peer, time_to_error, write_results};
 use std::path::PathBuf;
 
 #[derive(Args, Debug, Clone)]
@@ -52,10 +52,10 @@ pub fn run(a: ConvergeArgs) -> anyhow::Result<()> {
     let budgets: Vec<Budget> = if !a.spp.is_empty() {
         a.spp.iter().map(|&n| Budget::Spp(n)).collect()
     } else if !a.times.is_empty() {
-        if a.times.iter().any(|t| !(t.is_finite() && *t > 0.0 && *t <= crate::limits::MAX_SECONDS)) {
+        if a.times.iter().any(|t| !(t.is_finite() && *t > 0.0 && *t <= prism_core::limits::MAX_SECONDS)) {
             return Err(PrismError::invalid(format!(
                 "--times must be positive numbers of seconds (at most {})",
-                crate::limits::MAX_SECONDS
+                prism_core::limits::MAX_SECONDS
             ))
             .into());
         }
@@ -64,16 +64,16 @@ pub fn run(a: ConvergeArgs) -> anyhow::Result<()> {
         return Err(PrismError::invalid("give the budgets with --spp N,N,... or --times S,S,...").into());
     };
     if let Some(t) = a.threads {
-        crate::limits::threads(t)?;
+        prism_core::limits::threads(t)?;
     }
     // The output directory and every file written into it are checked before the first render: it exists (or is
     // created) and is writable, and no result would overwrite an input (scene, its meshes and maps, reference, peer).
     std::fs::create_dir_all(&a.output).map_err(|e| PrismError::io(&a.output, e))?;
-    let results = crate::converge::RESULT_FILES.map(|f| a.output.join(f));
+    let results = prism_lab::converge::RESULT_FILES.map(|f| a.output.join(f));
     let mut inputs = scene_inputs(&a.scene)?;
     inputs.push(a.reference.clone());
     inputs.extend(a.peer.iter().cloned());
-    crate::io::check_outputs(&results, &inputs)?;
+    prism_core::io::check_outputs(&results, &inputs)?;
     let reference = read_image(&a.reference)?;
     let peer: Option<PeerCurve> =
         a.peer.as_ref().map(|p| read_peer(p, &a.peer_scene, &a.peer_variant, a.peer_sampler.as_deref())).transpose()?;
@@ -105,11 +105,21 @@ pub fn run(a: ConvergeArgs) -> anyhow::Result<()> {
     // every point anyway, so even a killed run leaves its results).
     let cancel = super::render_cmd::cancel_flag();
     let points = pool.install(|| {
-        measure(&a.scene, &reference, &a.integrators, &budgets, &base, crop, &cancel, |p, so_far| {
-            let cpu = p.cpu_seconds.map_or("-".into(), |c| format!("{c:.3}"));
-            eprintln!("{:<40} {:>6} {:>9.3} {:>9} {:>10.5}", p.integrator, p.spp, p.seconds, cpu, p.rmse);
-            write_results(&a.output, so_far, peer.as_ref(), &title).map(|_| ())
-        })
+        measure(
+            &a.scene,
+            &reference,
+            &a.integrators,
+            &budgets,
+            &base,
+            crop,
+            &cancel,
+            &crate::DefaultPlugins,
+            |p, so_far| {
+                let cpu = p.cpu_seconds.map_or("-".into(), |c| format!("{c:.3}"));
+                eprintln!("{:<40} {:>6} {:>9.3} {:>9} {:>10.5}", p.integrator, p.spp, p.seconds, cpu, p.rmse);
+                write_results(&a.output, so_far, peer.as_ref(), &title).map(|_| ())
+            },
+        )
     })?;
     let files = write_results(&a.output, &points, peer.as_ref(), &title)?;
     if cancel.load(std::sync::atomic::Ordering::Relaxed) {
@@ -154,8 +164,8 @@ pub fn run(a: ConvergeArgs) -> anyhow::Result<()> {
 
 /// The files a scene reads (the scene itself, meshes, textures, environment maps): its Load stage alone.
 fn scene_inputs(scene: &std::path::Path) -> anyhow::Result<Vec<PathBuf>> {
-    let mut app = crate::app::App::with(crate::DefaultPlugins);
-    app.resources.source = crate::app::SceneSource::File(scene.to_path_buf());
-    app.run_stage(crate::app::Stage::Load)?;
+    let mut app = prism_engine::App::with(crate::DefaultPlugins);
+    app.resources.source = prism_engine::SceneSource::File(scene.to_path_buf());
+    app.run_stage(prism_engine::Stage::Load)?;
     Ok(std::mem::take(&mut app.resources.inputs))
 }

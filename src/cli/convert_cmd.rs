@@ -2,9 +2,9 @@
 //! (mesh and texture paths relative to the output file). The result is parsed back before it is written, so a
 //! written file always parses.
 
-use crate::error::PrismError;
-use crate::load::{mit6837, parse_scene, pbrt};
 use clap::Args;
+use prism_core::error::PrismError;
+use prism_load::{mit6837, parse_scene, pbrt};
 use std::path::{Path, PathBuf};
 
 #[derive(Args, Debug, Clone)]
@@ -32,12 +32,12 @@ pub fn run(args: ConvertArgs) -> anyhow::Result<()> {
     if ext(&args.output) != "ron" {
         return Err(PrismError::invalid(format!("{}: the output must be a .ron file", args.output.display())).into());
     }
-    crate::io::check_outputs(std::slice::from_ref(&args.output), std::slice::from_ref(&args.input))?;
+    prism_core::io::check_outputs(std::slice::from_ref(&args.output), std::slice::from_ref(&args.input))?;
     let out_dir = match args.output.parent() {
         Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
         _ => PathBuf::from("."),
     };
-    let text = crate::load::with_loader_stack(|| {
+    let text = prism_load::with_loader_stack(|| {
         let text = if input_ext == "pbrt" {
             let c = pbrt::convert_file(&args.input, &out_dir)?;
             for w in &c.warnings {

@@ -5,18 +5,18 @@
 //! - `-render_filter FILE ZOOM`: the filter's weight around the centre pixel, `ZOOM` texels per pixel, white = the
 //!   largest weight (the filter as the render samples it: Prism draws each sample's offset from this weight).
 
-use crate::io::{Image, write_image};
-use crate::sampling::{PixelFilter, PixelPattern, Rng, hash_u64};
 use glam::{Vec2, Vec3};
+use prism_core::io::{Image, write_image};
+use prism_core::sampling::{PixelFilter, PixelPattern, Rng, hash_u64};
 use std::path::Path;
 
 /// Largest visualisation accepted (pixels per side).
 const MAX_SIDE: u64 = 8192;
 
-fn checked_size(w: u32, h: u32, zoom: u32) -> Result<(u32, u32), crate::error::PrismError> {
+fn checked_size(w: u32, h: u32, zoom: u32) -> Result<(u32, u32), prism_core::error::PrismError> {
     let (zw, zh) = (w as u64 * zoom as u64, h as u64 * zoom as u64);
     if zoom == 0 || zw > MAX_SIDE || zh > MAX_SIDE {
-        return Err(crate::error::PrismError::invalid(format!(
+        return Err(prism_core::error::PrismError::invalid(format!(
             "zoom {zoom} for a {w}x{h} image is out of range (1 to {MAX_SIDE} pixels per side)"
         )));
     }
@@ -31,7 +31,7 @@ pub fn render_samples(
     pattern: PixelPattern,
     filter: PixelFilter,
     n: u32,
-) -> crate::error::Result<()> {
+) -> prism_core::error::Result<()> {
     let (zw, zh) = checked_size(w, h, zoom)?;
     let mut px = vec![Vec3::ZERO; (zw * zh) as usize];
     for y in 0..zh {
@@ -62,7 +62,7 @@ pub fn render_samples(
 }
 
 /// The filter's weight over the image, centred on its centre pixel.
-pub fn render_filter(path: &Path, (w, h): (u32, u32), zoom: u32, filter: PixelFilter) -> crate::error::Result<()> {
+pub fn render_filter(path: &Path, (w, h): (u32, u32), zoom: u32, filter: PixelFilter) -> prism_core::error::Result<()> {
     let (zw, zh) = checked_size(w, h, zoom)?;
     let centre = Vec2::new((w / 2) as f32 + 0.5, (h / 2) as f32 + 0.5);
     let peak = filter.weight(Vec2::ZERO).max(1e-30);

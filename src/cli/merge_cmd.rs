@@ -5,10 +5,10 @@
 //! equals the one-process render of the same scene, seed and total bit for bit. A missing or incomplete shard is an
 //! error unless `--partial` is given (the image is then the mean of the samples that exist).
 
-use crate::error::PrismError;
-use crate::film::{ShardAxis, read_film, write_film};
-use crate::io::{Image, is_film_path, write_image};
 use clap::Args;
+use prism_core::error::PrismError;
+use prism_core::film::{ShardAxis, read_film, write_film};
+use prism_core::io::{Image, is_film_path, write_image};
 use std::path::PathBuf;
 
 #[derive(Args, Debug, Clone)]
@@ -28,7 +28,7 @@ pub struct MergeArgs {
 }
 
 pub fn run(a: MergeArgs) -> anyhow::Result<()> {
-    let max = crate::settings::MAX_EXPOSURE;
+    let max = prism_core::settings::MAX_EXPOSURE;
     if !(a.exposure.is_finite() && a.exposure.abs() <= max) {
         return Err(PrismError::invalid(format!("--exposure must be between -{max} and {max} stops")).into());
     }
@@ -41,11 +41,11 @@ pub fn run(a: MergeArgs) -> anyhow::Result<()> {
             ))
             .into());
         }
-        if a.parts.iter().any(|p| p == o || crate::io::same_file(p, o)) {
+        if a.parts.iter().any(|p| p == o || prism_core::io::same_file(p, o)) {
             return Err(PrismError::invalid(format!("{}: the output would overwrite an input", o.display())).into());
         }
     }
-    crate::io::check_outputs(&a.output, &a.parts)?;
+    prism_core::io::check_outputs(&a.output, &a.parts)?;
     let mut first = read_film(&a.parts[0])?;
     let n = first.header.shard.1;
     // The shard count comes from a file: keep the shards seen in a set, never a table sized by it.

@@ -63,7 +63,7 @@ pub(crate) fn print_stdout(text: &str) -> anyhow::Result<()> {
     match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
         Ok(()) => Ok(()),
         Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
-        Err(e) => Err(crate::error::PrismError::io("standard output", e).into()),
+        Err(e) => Err(prism_core::error::PrismError::io("standard output", e).into()),
     }
 }
 

@@ -27,9 +27,9 @@
 //! with 1 sample at each pixel centre, as the course's ray tracer does.
 
 use super::render_cmd::{RenderArgs, run as render};
-use crate::error::PrismError;
-use crate::load::mit6837;
-use crate::sampling::{PixelFilter, PixelPattern};
+use prism_core::error::PrismError;
+use prism_core::sampling::{PixelFilter, PixelPattern};
+use prism_load::mit6837;
 use std::path::{Path, PathBuf};
 
 #[derive(clap::Args, Debug, Clone)]
@@ -185,8 +185,8 @@ pub fn run(args: RaytracerArgs) -> anyhow::Result<()> {
         exact_curves: o.exact_curves,
     };
     if o.stats {
-        let mut app = crate::App::with(crate::DefaultPlugins);
-        app.resources.source = crate::app::SceneSource::File(input.clone());
+        let mut app = prism_engine::App::with(crate::DefaultPlugins);
+        app.resources.source = prism_engine::SceneSource::File(input.clone());
         app.resources.overrides.accel = super::render_cmd::accel_override(None, o.grid.as_ref().map(|g| &g[..]))?;
         app.resources.overrides.exact_curves = o.exact_curves;
         app.setup()?;
@@ -214,7 +214,7 @@ pub fn run(args: RaytracerArgs) -> anyhow::Result<()> {
     }
     if let Some((near, far, out)) = &o.depth {
         let back =
-            crate::load::with_loader_stack(|| mit6837::convert_file(&input, Path::new("."), o.exact_curves))?.eye_back;
+            prism_load::with_loader_stack(|| mit6837::convert_file(&input, Path::new("."), o.exact_curves))?.eye_back;
         let (near, far, raw) = (near + back, far + back, is_tga(out));
         render(base(out.clone(), format!("debug(mode: depth, near: {near:?}, far: {far:?}, raw: {raw})")))?;
     }

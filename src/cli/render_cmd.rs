@@ -2,11 +2,11 @@
 //! Ctrl-C keeps what was rendered (the film is written, then the process exits non-zero), a progress bar on a
 //! terminal, a one-paragraph summary on stderr.
 
-use crate::app::{App, SceneSource};
-use crate::error::PrismError;
-use crate::sampling::{PixelFilter, PixelPattern, SamplerKind};
-use crate::settings::{AccelKind, GridResolution, Overrides};
 use clap::Args;
+use prism_core::error::PrismError;
+use prism_core::sampling::{PixelFilter, PixelPattern, SamplerKind};
+use prism_core::settings::{AccelKind, GridResolution, Overrides};
+use prism_engine::{App, SceneSource};
 use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -107,7 +107,7 @@ pub(super) fn accel_override(accel: Option<AccelKind>, grid: Option<&[u32]>) -> 
     let Some(g) = grid else {
         return Ok(accel);
     };
-    crate::accel::grid::check_resolution([g[0], g[1], g[2]])?;
+    prism_core::accel::grid::check_resolution([g[0], g[1], g[2]])?;
     let res = GridResolution::Fixed([g[0], g[1], g[2]]);
     match accel {
         None | Some(AccelKind::Grid(_)) => Ok(Some(AccelKind::Grid(res))),
@@ -168,9 +168,9 @@ pub(super) fn cancel_flag() -> Arc<AtomicBool> {
 
 pub fn run(args: RenderArgs) -> anyhow::Result<()> {
     if let Some(t) = args.threads {
-        crate::limits::threads(t)?;
+        prism_core::limits::threads(t)?;
     }
-    let checkpoint = crate::limits::seconds(args.checkpoint, "--checkpoint")?;
+    let checkpoint = prism_core::limits::seconds(args.checkpoint, "--checkpoint")?;
     let outputs = if args.output.is_empty() {
         let stem = args.scene.file_stem().map(|s| s.to_string_lossy().to_string()).unwrap_or_else(|| "out".into());
         vec![PathBuf::from(format!("{stem}.png"))]
@@ -179,7 +179,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
     };
     for o in &outputs {
         let ext = o.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
-        if ext != "png" && ext != "exr" && ext != "tga" && !crate::io::is_film_path(o) {
+        if ext != "png" && ext != "exr" && ext != "tga" && !prism_core::io::is_film_path(o) {
             return Err(PrismError::invalid(format!(
                 "{}: unsupported output format (use .png, .exr, .tga or .prism-film)",
                 o.display()
@@ -213,7 +213,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
     // Checkpoints and interruptions save the film beside the first output (or in the .prism-film output).
     r.film_path = outputs
         .iter()
-        .find(|o| crate::io::is_film_path(o))
+        .find(|o| prism_core::io::is_film_path(o))
         .cloned()
         .or_else(|| outputs.first().map(|o| o.with_extension("prism-film")));
     r.checkpoint_every = (!checkpoint.is_zero()).then_some(checkpoint);

@@ -2,9 +2,9 @@
 //! page `DIR/index.html` with its pictures and CSV files (see `report/`). Exits non-zero when an item of the suite
 //! could not be measured (the page names it; everything else is written).
 
-use crate::error::PrismError;
-use crate::report::{ReportOptions, run as run_report};
 use clap::Args;
+use prism_core::error::PrismError;
+use prism_lab::report::{ReportOptions, run as run_report};
 use std::path::PathBuf;
 
 #[derive(Args, Debug, Clone)]
@@ -28,7 +28,7 @@ pub fn run(a: ReportArgs) -> anyhow::Result<()> {
         .collect::<Vec<_>>()
         .join(" ");
     let opts = ReportOptions { threads: a.threads, note: a.note, command };
-    let outcome = run_report(&a.suite, &a.output, &opts)?;
+    let outcome = run_report(&a.suite, &a.output, &opts, &crate::DefaultPlugins)?;
     eprintln!("report: wrote {} in {:.0} s", outcome.index.display(), outcome.seconds);
     match outcome.problems.first() {
         None => Ok(()),

@@ -5,11 +5,11 @@
 //! `prism curve_editor -input F -output F.obj -curve_tessellation N -revolution_tessellation N
 //! -patch_tessellation N -output_bezier F -output_bspline F` is the course's own command line (`-gui` ignored).
 
-use crate::error::PrismError;
-use crate::load::mit6837::spline::{SplineTxt, Tessellation, parse_spline_file, tessellate_splines, write_splines};
-use crate::shapes::CurveKind;
-use crate::shapes::tessellate::{check_resolution, curve_tessellation, to_obj};
 use clap::Args;
+use prism_core::error::PrismError;
+use prism_core::shapes::CurveKind;
+use prism_core::shapes::tessellate::{check_resolution, curve_tessellation, to_obj};
+use prism_load::mit6837::spline::{SplineTxt, Tessellation, parse_spline_file, tessellate_splines, write_splines};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 

@@ -1,0 +1,394 @@
+//! Render settings: what the scene file's `render: (...)` block and the command line decide together (the
+//! command line wins), resolved once in the Load stage and read by every later stage.
+
+use crate::error::{PrismError, Result, SourcePos};
+use crate::sampling::{PixelFilter, PixelPattern, SamplerKind};
+use serde::de::DeserializeOwned;
+
+/// Largest accepted image side and pixel count (see [`crate::limits`]).
+pub use crate::limits::{MAX_IMAGE_PIXELS, MAX_IMAGE_SIDE};
+
+/// Largest exposure in stops either way (2^100 still scales an f32 radiance without overflowing to infinity).
+pub const MAX_EXPOSURE: f32 = 100.0;
+
+/// A plugin chosen by name, with its parameter text as written in the scene (`phong(max_depth: 3)`), parsed by
+/// the plugin itself so that it owns its parameter struct.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PluginConfig {
+    pub name: String,
+    /// The parenthesised parameter list, e.g. `(max_depth: 3)`, if one was given.
+    pub params: Option<String>,
+    /// Where `params` starts in the scene file (for error positions).
+    pub origin: Option<SourcePos>,
+}
+
+impl PluginConfig {
+    pub fn named(name: impl Into<String>) -> Self {
+        PluginConfig { name: name.into(), params: None, origin: None }
+    }
+
+    /// Parse a command-line spec: `name` or `name(param: value, ...)` (parameters are checked by the plugin).
+    pub fn from_spec(spec: &str) -> Result<Self> {
+        let s = spec.trim();
+        let ident = s.find(|c: char| !(c.is_ascii_alphanumeric() || c == '_')).unwrap_or(s.len());
+        let rest = s[ident..].trim();
+        if ident == 0 || !(rest.is_empty() || (rest.starts_with('(') && rest.ends_with(')'))) {
+            return Err(PrismError::invalid(format!(
+                "integrator spec '{spec}': expected `name` or `name(param: value, ...)`"
+            )));
+        }
+        let params = (!rest.is_empty()).then(|| rest.to_string());
+        Ok(PluginConfig { name: s[..ident].to_string(), params, origin: None })
+    }
+
+    /// Deserialize the plugin's parameter struct (defaults when none were given). Errors point into the scene file.
+    pub fn parse_params<T: DeserializeOwned + Default>(&self) -> Result<T> {
+        let Some(text) = &self.params else {
+            return Ok(T::default());
+        };
+        let opts = ron::Options::default().with_default_extension(ron::extensions::Extensions::IMPLICIT_SOME);
+        let mut de = ron::Deserializer::from_str_with_options(text, &opts)
+            .map_err(|e| PrismError::invalid(format!("integrator '{}': {}", self.name, e.code)))?;
+        let parsed = match serde_path_to_error::deserialize::<_, T>(&mut de) {
+            Ok(v) => de.end().map(|_| v).map_err(|e| (String::new(), e)),
+            Err(e) => Err((e.path().to_string(), e.into_inner())),
+        };
+        parsed.map_err(|(path, e)| {
+            let e = de.span_error(e);
+            let what = crate::ron_error::describe(&e.code);
+            let message = if path.is_empty() || path == "." || path == "?" {
+                format!("integrator '{}': {what}", self.name)
+            } else {
+                format!("integrator '{}': `{path}`: {what}", self.name)
+            };
+            match &self.origin {
+                Some(o) => {
+                    let (line, col) = (e.span.start.line, e.span.start.col);
+                    let pos = SourcePos {
+                        file: o.file.clone(),
+                        line: o.line + line - 1,
+                        col: if line == 1 { o.col + col - 1 } else { col },
+                    };
+                    PrismError::Parse { pos, message }
+                }
+                None => PrismError::invalid(message),
+            }
+        })
+    }
+}
+
+/// A plugin config as one line, `name` or `name(params)` (film headers, summaries).
+pub fn describe_plugin(c: &PluginConfig) -> String {
+    match &c.params {
+        Some(p) => format!("{}{}", c.name, p.split_whitespace().collect::<Vec<_>>().join(" ")),
+        None => c.name.clone(),
+    }
+}
+
+/// Which accelerator to build over the scene's bounded primitives.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum AccelKind {
+    /// Wide BVH with SoA boxes and packet leaves (`accel/wide_bvh/`), built by obvhs (the default).
+    #[default]
+    Bvh,
+    /// obvhs's compressed 8-wide BVH (CWBVH) and its own traversal (`accel/cwbvh.rs`), kept for comparison.
+    CwBvh,
+    /// SAH kd-tree (`accel/kdtree/`).
+    KdTree,
+    /// Uniform grid with the given resolution (`accel/grid/`).
+    Grid(GridResolution),
+    /// Test every primitive: the ground truth.
+    Brute,
+}
+
+/// Cells of a uniform grid along x, y and z, or chosen from the primitive count and the scene bounds.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum GridResolution {
+    #[default]
+    Auto,
+    Fixed([u32; 3]),
+}
+
+impl AccelKind {
+    /// `bvh`, `cwbvh`, `kdtree`, `grid` (automatic resolution) or `brute`.
+    pub fn parse(s: &str) -> Option<Self> {
+        match s {
+            "bvh" => Some(Self::Bvh),
+            "cwbvh" => Some(Self::CwBvh),
+            "kdtree" => Some(Self::KdTree),
+            "grid" => Some(Self::Grid(GridResolution::Auto)),
+            "brute" => Some(Self::Brute),
+            _ => None,
+        }
+    }
+
+    pub fn name(&self) -> &'static str {
+        match self {
+            Self::Bvh => "bvh",
+            Self::CwBvh => "cwbvh",
+            Self::KdTree => "kdtree",
+            Self::Grid(_) => "grid",
+            Self::Brute => "brute",
+        }
+    }
+
+    /// Every accelerator (the grid with automatic resolution).
+    pub const ALL: [AccelKind; 5] =
+        [AccelKind::Bvh, AccelKind::CwBvh, AccelKind::KdTree, AccelKind::Grid(GridResolution::Auto), AccelKind::Brute];
+
+    /// The names `parse` accepts, for messages.
+    pub const NAMES: &'static str = "bvh, cwbvh, kdtree, grid or brute";
+}
+
+/// The resolved settings of one render.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RenderSettings {
+    pub width: u32,
+    pub height: u32,
+    /// Total samples per pixel (`None` = unlimited, only with a time budget).
+    pub spp: Option<u32>,
+    /// Number of progressive passes `spp` is split into (the pass limit when `spp` is `None`).
+    pub passes: u32,
+    /// Samples per pixel of the first pass when it is set apart from the rest (the adaptive pilot of a render
+    /// whose passes were not given: see [`default_pass_layout`]); the other passes split the remaining samples
+    /// evenly. `None`: all passes split `spp` evenly.
+    pub pilot_spp: Option<u32>,
+    /// Samples per pixel of each pass when `spp` is `None` (time-budget renders).
+    pub pass_spp: u32,
+    /// Which sampler fills every dimension of a sample.
+    pub sampler: SamplerKind,
+    /// Pixel positions from an explicit pattern instead of the sampler (`None`: the sampler's own: Sobol points
+    /// for `sobol`, jittered strata for `stratified`, uniform random for `independent`).
+    pub pattern: Option<PixelPattern>,
+    /// Pixel reconstruction filter (by filter importance sampling).
+    pub filter: PixelFilter,
+    /// After a uniform first pass, give each pixel samples in proportion to its estimated noise (per-pixel
+    /// integrators; see `integrator::adaptive`).
+    pub adaptive: bool,
+    pub seed: u64,
+    /// Stop after the pass that crosses this many seconds.
+    pub time_budget: Option<f64>,
+    pub integrator: PluginConfig,
+    pub accel: AccelKind,
+    /// PNG exposure in stops.
+    pub exposure: f32,
+    /// This process renders shard `k` of `n` (`(0, 1)`: the whole render).
+    pub shard: (u32, u32),
+}
+
+impl Default for RenderSettings {
+    fn default() -> Self {
+        RenderSettings {
+            width: 256,
+            height: 256,
+            spp: Some(16),
+            passes: 16,
+            pilot_spp: None,
+            pass_spp: 1,
+            sampler: SamplerKind::default(),
+            pattern: None,
+            filter: PixelFilter::default(),
+            adaptive: false,
+            seed: 0,
+            time_budget: None,
+            integrator: PluginConfig::named("phong"),
+            accel: AccelKind::Bvh,
+            exposure: 0.0,
+            shard: (0, 1),
+        }
+    }
+}
+
+impl RenderSettings {
+    /// A fingerprint of every setting that changes the image (not the time budget or the PNG exposure), mixed
+    /// with `scene`, a hash of the scene file: films of different scenes or settings do not resume or merge.
+    pub fn fingerprint(&self, scene: u64) -> u64 {
+        let key = format!(
+            "{}x{} spp {:?} passes {} pass_spp {} sampler {:?} pattern {:?} filter {:?}{} seed {} integrator {} {:?} accel {:?}",
+            self.width,
+            self.height,
+            self.spp,
+            self.passes,
+            self.pass_spp,
+            self.sampler,
+            self.pattern,
+            self.filter,
+            match (self.adaptive, self.pilot_spp) {
+                (false, _) => String::new(),
+                (true, None) => " adaptive".into(),
+                (true, Some(p)) => format!(" adaptive pilot {p}"),
+            },
+            self.seed,
+            self.integrator.name,
+            self.integrator.params,
+            self.accel
+        );
+        let mut h = scene ^ 0x9E37_79B9_7F4A_7C15;
+        for b in key.bytes() {
+            h ^= b as u64;
+            h = h.wrapping_mul(0x0000_0100_0000_01b3);
+        }
+        h
+    }
+
+    /// The pattern pixel positions follow: the explicit one, else the sampler's (`None` for Sobol points).
+    pub fn pixel_pattern(&self) -> Option<PixelPattern> {
+        match (self.pattern, self.sampler) {
+            (Some(p), _) => Some(p),
+            (None, SamplerKind::Stratified) => Some(PixelPattern::Stratified),
+            (None, SamplerKind::Independent) => Some(PixelPattern::Random),
+            (None, SamplerKind::Sobol) => None,
+        }
+    }
+
+    /// A one-word description of how pixel positions are chosen (for summaries).
+    pub fn pattern_name(&self) -> &'static str {
+        self.pixel_pattern().map_or("sobol", |p| p.name())
+    }
+
+    /// Samples per pixel of pass `pass` (0-based): the total split as evenly as possible (after the first pass's
+    /// [`pilot_spp`](Self::pilot_spp) when it is set apart); without a sample limit every pass takes `pass_spp`.
+    pub fn samples_in_pass(&self, pass: u32) -> u32 {
+        match self.spp {
+            Some(_) => (self.samples_before_pass(pass + 1) - self.samples_before_pass(pass)) as u32,
+            None => self.pass_spp,
+        }
+    }
+
+    /// Samples per pixel rendered before pass `pass` (the index of its first sample).
+    pub fn samples_before_pass(&self, pass: u32) -> u64 {
+        let pass = pass as u64;
+        match (self.spp, self.pilot_spp) {
+            (Some(spp), Some(pilot)) if self.passes > 1 => match pass {
+                0 => 0,
+                k => pilot as u64 + ((k - 1) * (spp - pilot) as u64) / (self.passes - 1) as u64,
+            },
+            (Some(spp), _) => (pass * spp as u64) / self.passes as u64,
+            (None, _) => pass * self.pass_spp as u64,
+        }
+    }
+
+    pub fn validate(&self) -> Result<()> {
+        if self.width == 0 || self.height == 0 {
+            return Err(PrismError::invalid(format!("image size {}x{} is empty", self.width, self.height)));
+        }
+        if self.width > MAX_IMAGE_SIDE
+            || self.height > MAX_IMAGE_SIDE
+            || self.width as u64 * self.height as u64 > MAX_IMAGE_PIXELS
+        {
+            return Err(PrismError::invalid(format!(
+                "image size {}x{} is too large (at most {MAX_IMAGE_SIDE} per side and {MAX_IMAGE_PIXELS} pixels)",
+                self.width, self.height
+            )));
+        }
+        if self.spp == Some(0) {
+            return Err(PrismError::invalid("spp must be at least 1"));
+        }
+        if self.passes == 0 {
+            return Err(PrismError::invalid("passes must be at least 1"));
+        }
+        if let Some(spp) = self.spp
+            && self.passes > spp
+        {
+            return Err(PrismError::invalid(format!("{} passes cannot split {spp} samples per pixel", self.passes)));
+        }
+        if let Some(pilot) = self.pilot_spp {
+            let fits = self.spp.is_some_and(|spp| {
+                self.passes > 1 && pilot >= 1 && pilot as u64 + (self.passes - 1) as u64 <= spp as u64
+            });
+            if !fits {
+                return Err(PrismError::invalid(format!(
+                    "a first pass of {pilot} samples per pixel and {} more passes cannot split {:?} samples per pixel",
+                    self.passes.saturating_sub(1),
+                    self.spp
+                )));
+            }
+        }
+        if let Some(t) = self.time_budget
+            && !(t.is_finite() && t > 0.0 && t <= crate::limits::MAX_SECONDS)
+        {
+            return Err(PrismError::invalid(format!(
+                "time budget must be a positive number of seconds (at most {}), got {t}",
+                crate::limits::MAX_SECONDS
+            )));
+        }
+        self.filter.validate().map_err(PrismError::invalid)?;
+        if !(self.exposure.is_finite() && self.exposure.abs() <= MAX_EXPOSURE) {
+            return Err(PrismError::invalid(format!(
+                "exposure must be between -{MAX_EXPOSURE} and {MAX_EXPOSURE} stops, got {}",
+                self.exposure
+            )));
+        }
+        let (k, n) = self.shard;
+        if n == 0 || k >= n {
+            return Err(PrismError::invalid(format!("--shard {k}/{n}: K must be below N")));
+        }
+        if n > 1 && self.spp.is_none() {
+            return Err(PrismError::invalid("--shard needs a sample count (--spp), not only a time budget"));
+        }
+        if let Some(spp) = self.spp
+            && n > self.passes.min(spp)
+            && n > self.height
+        {
+            return Err(PrismError::invalid(format!(
+                "--shard {k}/{n}: more shards than passes ({}) and pixel rows ({})",
+                self.passes, self.height
+            )));
+        }
+        Ok(())
+    }
+}
+
+/// Fewest samples per pixel a default pass holds: two camera-ray packets per pixel (`accel::PACKET` is 16), and
+/// few enough passes that their fixed cost per pixel (the sampler's scramble keys, the film) stays small.
+pub const MIN_PASS_SPP: u32 = 32;
+/// Most passes a render is split into by default (progress, checkpoints and time budgets work in passes).
+pub const MAX_DEFAULT_PASSES: u32 = 16;
+
+/// The pass layout of `spp` samples per pixel when neither the command line nor the scene gives `passes`:
+/// `(passes, pilot_spp)`.
+///
+/// Passes of at least [`MIN_PASS_SPP`] samples, at most [`MAX_DEFAULT_PASSES`] of them. An adaptive render's first
+/// pass is its pilot, which keeps `spp / 16` samples (at least 1: how much of the budget the pilot spends was chosen
+/// by measuring the error; see `integrator::adaptive`); the samples after it are split into passes as above. A
+/// render in `shards` shards by passes gets at least as many passes as shards (where the samples allow), so
+/// every shard has work. Each pass costs every pixel a fixed set-up: 16 passes of 1 sample made a 16-spp Cornell
+/// box render 15% slower than one pass, 16 passes of 4 samples a 64-spp one 4-5% slower than 4 passes; at 48 spp
+/// each pass beyond the first cost about 0.85% (twenty-eighth session), so passes hold at least 32 samples (an
+/// adaptive 64-spp render in 2 passes instead of 4: 2% faster). Time budgets without a sample count keep their
+/// small passes (`RenderSettings::pass_spp`).
+pub fn default_pass_layout(spp: u32, adaptive: bool, shards: u32) -> (u32, Option<u32>) {
+    let spp = spp.max(1);
+    // `n` samples in passes of at least MIN_PASS_SPP, at most `most` of them, but `want` passes where `n` allows.
+    let split = |n: u32, most: u32, want: u32| (n / MIN_PASS_SPP).clamp(1, most).max(want.min(n));
+    let pilot = (spp / 16).max(1);
+    if !adaptive || pilot >= spp {
+        return (split(spp, MAX_DEFAULT_PASSES, shards), None);
+    }
+    (1 + split(spp - pilot, MAX_DEFAULT_PASSES - 1, shards.saturating_sub(1)), Some(pilot))
+}
+
+/// Command-line overrides of the scene's settings (`None` = keep the scene's).
+#[derive(Clone, Debug, Default)]
+pub struct Overrides {
+    pub size: Option<(u32, u32)>,
+    pub spp: Option<u32>,
+    pub passes: Option<u32>,
+    pub sampler: Option<SamplerKind>,
+    pub pattern: Option<PixelPattern>,
+    pub filter: Option<PixelFilter>,
+    pub adaptive: Option<bool>,
+    pub seed: Option<u64>,
+    pub time_budget: Option<f64>,
+    /// No sample limit unless `spp` is given (set with a time budget on the command line).
+    pub spp_unlimited: bool,
+    pub integrator: Option<String>,
+    pub accel: Option<AccelKind>,
+    pub exposure: Option<f32>,
+    pub shard: Option<(u32, u32)>,
+    /// The camera to render from, by name, in files that hold several (glTF).
+    pub camera: Option<String>,
+    /// Render curved surfaces exactly where the scene asks for a tessellation (RON `tessellation`, the meshes
+    /// 6.837 assignment 8 scenes name).
+    pub exact_curves: bool,
+}

@@ -1,0 +1,393 @@
+//! `ppm`: progressive photon mapping with a hash-grid photon lookup.
+//!
+//! **Stochastic progressive photon mapping** (Hachisuka & Jensen 2009), the default. Every iteration:
+//! 1. an eye pass (`visible.rs`): one camera sample per pixel traced through specular chains (and, by default,
+//!    through glossy surfaces, path-traced with MIS) to its first smooth vertex, the *visible point*, which also
+//!    gets direct light by next-event estimation;
+//! 2. a photon pass (`photons.rs`): `photons` photons from the lights (chosen by power, `sample_le`), stored from
+//!    their second vertex on (direct light is the eye pass's), scattered with exact Fresnel and Russian roulette
+//!    (traced first in the code, so the lookup over them is built while the eye pass runs);
+//! 3. a gather: each visible point sums `photon power x BSDF` over the photons within its pixel's radius `R`
+//!    (found through the hash grid or the kd-tree, on the same photons), then the pixel statistics update as
+//!    `N <- N + alpha M`, `R <- R sqrt((N + alpha M) / (N + M))`, `tau <- (tau + beta Phi) (R_new / R)^2`.
+//!
+//! The pixel's estimate after k iterations is `direct / k + tau / (k photons pi R^2)`: PPM's bias shrinks with R
+//! while its variance stays bounded, so the error goes to 0 as iterations grow.
+//!
+//! **Fixed mode** (the original PPM, Hachisuka, Ogaki & Jensen 2008): one eye pass through the pixel centres at the
+//! start, fixed visible points, then photon passes only, with photons stored from their first vertex (they carry
+//! direct light too). No anti-aliasing, no depth of field: what the stochastic variant buys.
+//!
+//! Parameters: `ppm(alpha: 0.7, radius: None, radius_pixels: 3, photons: None, max_depth: -1, mode: stochastic,
+//! lookup: hash_grid, glossy: trace)`
+//! - `alpha`: the fraction of new photons kept per iteration, in (0, 1] (the seed's 0.7);
+//! - `radius`: the initial gather radius in world units; by default each pixel's is `radius_pixels` pixel
+//!   footprints at its first visible point (distance along the eye path x the pixel's angular size), so the same
+//!   settings work at any scene scale and resolution: with `photons` = the pixel count, a radius of 3 pixels holds a
+//!   few photons per iteration on any diffuse surface the camera sees (3 measured best at equal time on all five
+//!   reference scenes at 256x256: `docs/performance_log.md`);
+//! - `photons`: photons per iteration (default: the image's pixel count; at most 2^24);
+//! - `max_depth`: the longest light path in segments, counted as Mitsuba and `envlight` count them (-1 unlimited;
+//!   a photon deposited at its vertex v reaching a visible point after e specular eye vertices makes a path of
+//!   `e + v + 2` segments), so `ppm` and `envlight` render the same image for the same `max_depth`;
+//! - `mode`: `stochastic` | `fixed`; `lookup`: `hash_grid` | `kdtree`;
+//! - `glossy`: `trace` (eye paths go on through glossy surfaces, rough metal and glass, and photons are not stored
+//!   on them) | `gather` (visible points on them, which blurs what they reflect and blackens rough glass); fixed
+//!   mode always gathers.
+//!
+//! Deterministic whatever the thread count: photon `j` of iteration `k` draws from (seed, k, j), photons are stored
+//! in a fixed order, and each pixel sums its photons in a fixed order without atomics. Storage (visible points,
+//! photons, lookup structures) is allocated once and reused, so memory stays flat over iterations. Each progressive
+//! pass of the render is `spp` of the pass's iterations (`--spp 64` renders 64 iterations); `--time` stops after the
+//! iteration that crosses the budget; a cancelled iteration is dropped and the image of the completed ones kept.
+
+pub mod gather;
+mod hash_grid;
+mod kd_tree;
+mod params;
+pub mod photons;
+mod visible;
+
+pub use gather::PixelStats;
+pub use hash_grid::PhotonHashGrid;
+pub use kd_tree::PhotonKdTree;
+pub use params::{GlossyEye, MAX_PHOTONS, PhotonLookup, PpmMode, PpmParams};
+pub use visible::{EyePass, EyeResult, VisiblePoint};
+
+use glam::Vec3;
+use photons::{Photon, PhotonPass};
+use prism_core::error::{PrismError, Result};
+use prism_core::integrator::{Integrator, PassInfo, PassOutput};
+use prism_core::lights::{EnvStrategy, LightSampler};
+use prism_core::scene::Scene;
+use prism_core::settings::RenderSettings;
+use prism_engine::{App, Plugin};
+use rayon::prelude::*;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+pub struct PpmPlugin;
+
+impl Plugin for PpmPlugin {
+    fn name(&self) -> &str {
+        "ppm"
+    }
+
+    fn build(&self, app: &mut App) {
+        app.register_integrator(
+            "ppm",
+            Box::new(|cfg| {
+                let params: PpmParams = cfg.parse_params()?;
+                params.validate()?;
+                Ok(Box::new(Ppm::new(params)))
+            }),
+        );
+    }
+}
+
+/// The photon mapper's state between passes.
+pub struct Ppm {
+    params: PpmParams,
+    lights: Option<LightSampler>,
+    stats: Vec<PixelStats>,
+    eye: Vec<EyeResult>,
+    chunks: Vec<Vec<Photon>>,
+    grid: PhotonHashGrid,
+    kd: PhotonKdTree,
+    /// Iterations completed.
+    iterations: u64,
+    photons_per_iteration: u64,
+    photons_stored: u64,
+    warned_no_visible_points: bool,
+    /// Fixed mode: the visible points of this process's eye pass exist (they are recomputed after a resume).
+    eye_ready: bool,
+    /// The current radii of the pixels with a visible point (reused buffer, for the grid's cell size).
+    radii: Vec<f32>,
+    /// Rows this process renders: `(k, n)` = rows `y % n == k` (a row shard), `(0, 1)` = all.
+    rows: (u32, u32),
+    /// The hash grid's cell size from the last iteration's radii (the next iteration builds its grid with it while
+    /// the eye pass runs); `None` before the first.
+    cell: Option<f32>,
+}
+
+impl Ppm {
+    pub fn new(params: PpmParams) -> Self {
+        Ppm {
+            params,
+            lights: None,
+            stats: vec![],
+            eye: vec![],
+            chunks: vec![],
+            grid: PhotonHashGrid::default(),
+            kd: PhotonKdTree::default(),
+            iterations: 0,
+            photons_per_iteration: 0,
+            photons_stored: 0,
+            warned_no_visible_points: false,
+            eye_ready: false,
+            radii: vec![],
+            rows: (0, 1),
+            cell: None,
+        }
+    }
+
+    /// Iterations completed so far.
+    pub fn iterations(&self) -> u64 {
+        self.iterations
+    }
+
+    /// The per-pixel statistics (radius, photon count, flux).
+    pub fn pixel_stats(&self) -> &[PixelStats] {
+        &self.stats
+    }
+
+    /// Photons stored in the last iteration.
+    pub fn photons_stored(&self) -> u64 {
+        self.photons_stored
+    }
+
+    /// Bytes held by the photon storage and the lookup structures (for memory reports).
+    pub fn memory_bytes(&self) -> usize {
+        self.chunks.iter().map(|c| c.capacity() * std::mem::size_of::<Photon>()).sum::<usize>()
+            + self.grid.memory_bytes()
+            + self.kd.memory_bytes()
+            + self.stats.capacity() * std::mem::size_of::<PixelStats>()
+            + self.eye.capacity() * std::mem::size_of::<EyeResult>()
+    }
+
+    /// One iteration; false (and nothing changed) if cancelled.
+    fn iterate(&mut self, scene: &Scene, settings: &RenderSettings, cancel: &AtomicBool) -> bool {
+        let lights = self.lights.as_ref().expect("prepared");
+        let fixed = self.params.mode == PpmMode::Fixed;
+        let k = self.iterations;
+        let w = settings.width as usize;
+        // 1. Photon pass (it does not depend on the eye pass).
+        let pass = PhotonPass {
+            scene,
+            lights,
+            sampler: settings.sampler,
+            seed: settings.seed,
+            iteration: k,
+            photons: self.photons_per_iteration,
+            max_vertices: self.params.segments().saturating_sub(1),
+            first_deposit: if fixed { 0 } else { 1 },
+            store_on_glossy: !self.params.traces_glossy(),
+        };
+        if !pass.trace(&mut self.chunks, cancel) {
+            return false;
+        }
+        self.photons_stored = self.chunks.iter().map(|c| c.len() as u64).sum();
+        // 2. Eye pass (fixed mode: once, with iteration 0's numbers, also after a resume), with the photon lookup
+        //    built meanwhile: the build is one thread's work and the eye pass's rows keep the other threads busy.
+        //    The hash grid then takes its cell size from the previous iteration's radii; cells change only how
+        //    fast the lookup is, never what it finds (gathered sums are exact fixed point, order-free).
+        let lookup = self.params.lookup;
+        let last_cell = self.cell;
+        let mut built = false;
+        if !fixed || !self.eye_ready {
+            let index = if fixed { 0 } else { k };
+            let (rk, rn) = self.rows;
+            let eye = EyePass {
+                scene,
+                lights,
+                settings,
+                sampler: settings.sampler,
+                max_segments: self.params.segments(),
+                direct_lighting: !fixed,
+                pixel_centre: fixed,
+                trace_glossy: self.params.traces_glossy(),
+            };
+            let (eye_rows, grid, kd, chunks) = (&mut self.eye, &mut self.grid, &mut self.kd, &self.chunks);
+            // True when the lookup was built here (the hash grid needs a previous iteration's cell size).
+            let build = || match lookup {
+                PhotonLookup::HashGrid => last_cell.map(|cell| grid.build(chunks, cell)).is_some(),
+                PhotonLookup::Kdtree => {
+                    kd.build(chunks);
+                    true
+                }
+            };
+            let trace = || {
+                eye_rows.par_chunks_mut(w).enumerate().for_each(|(y, row)| {
+                    if cancel.load(Ordering::Relaxed) || y as u32 % rn != rk {
+                        return;
+                    }
+                    for (x, r) in row.iter_mut().enumerate() {
+                        *r = eye.trace_pixel(x as u32, y as u32, index);
+                    }
+                })
+            };
+            (built, _) = rayon::join(build, trace);
+            if cancel.load(Ordering::Relaxed) {
+                return false;
+            }
+            self.eye_ready = true;
+        }
+        // 3. Gather and update.
+        let initial = |vp: &VisiblePoint| {
+            self.params
+                .radius
+                .unwrap_or_else(|| self.params.radius_pixels * scene.camera.pixel_footprint(vp.path_length.max(1e-30)))
+        };
+        self.radii.clear();
+        self.radii.par_extend(self.stats.par_iter_mut().zip(self.eye.par_iter()).filter_map(|(st, e)| {
+            let vp = e.vp.as_ref()?;
+            st.init_radius(initial(vp));
+            Some(st.radius() as f32)
+        }));
+        let r_max = self.radii.iter().copied().fold(0.0f32, f32::max);
+        if r_max > 0.0 {
+            match lookup {
+                PhotonLookup::HashGrid => {
+                    // Cells twice the median radius: most queries touch 2 x 2 x 2 cells.
+                    let mid = self.radii.len() / 2;
+                    let (_, median, _) = self.radii.select_nth_unstable_by(mid, f32::total_cmp);
+                    let cell = (2.0 * *median).max(r_max * 1e-3);
+                    self.cell = Some(cell);
+                    if !built {
+                        self.grid.build(&self.chunks, cell);
+                    }
+                }
+                PhotonLookup::Kdtree if !built => self.kd.build(&self.chunks),
+                PhotonLookup::Kdtree => {}
+            }
+        }
+        let (grid, kd, lookup, alpha) = (&self.grid, &self.kd, self.params.lookup, self.params.alpha as f64);
+        let max_segments = self.params.segments();
+        let add_direct = !fixed || k == 0;
+        // Pieces of at most 256 pixels: the gather's cost varies across the image, and rayon's even split left one
+        // thread idle at the end of each iteration (1.78x on two threads; 1.98x with this).
+        self.stats.par_iter_mut().zip(self.eye.par_iter()).with_max_len(256).for_each(|(st, e)| {
+            let (phi, m) = match &e.vp {
+                Some(vp) if r_max > 0.0 => {
+                    gather::gather(scene, vp, st.radius() as f32, max_segments, |p, r, f| match lookup {
+                        PhotonLookup::HashGrid => grid.query(p, r, f),
+                        PhotonLookup::Kdtree => kd.query(p, r, f),
+                    })
+                }
+                _ => (glam::DVec3::ZERO, 0),
+            };
+            st.update(e, phi, m, alpha, add_direct);
+        });
+        self.iterations += 1;
+        true
+    }
+
+    /// The current image estimate.
+    fn image(&self, fixed: bool) -> Vec<Vec3> {
+        let k = self.iterations.max(1) as f64;
+        let direct_count = if fixed { 1.0 } else { k };
+        let photons = k * self.photons_per_iteration as f64;
+        self.stats.par_iter().map(|s| s.estimate(direct_count, photons)).collect()
+    }
+}
+
+impl Integrator for Ppm {
+    fn prepare(&mut self, scene: &Scene, settings: &RenderSettings) -> Result<()> {
+        let lights = LightSampler::new(&scene.lights, &scene.prims, EnvStrategy::Quadtree);
+        let pixels = settings.width as usize * settings.height as usize;
+        self.photons_per_iteration = self.params.photons.unwrap_or(pixels as u64).min(MAX_PHOTONS);
+        if !lights.has_power() {
+            eprintln!("warning: ppm: no light emits anything: only emission seen directly can appear");
+        }
+        if scene
+            .lights
+            .lights
+            .iter()
+            .any(|l| matches!(l, prism_core::lights::LightSource::Point(p) if p.attenuation != Vec3::Z))
+        {
+            eprintln!(
+                "warning: ppm: point lights emit photons with physical inverse-square falloff; their non-physical attenuation is ignored"
+            );
+        }
+        self.lights = Some(lights);
+        self.stats = vec![PixelStats::default(); pixels];
+        self.eye = vec![EyeResult::default(); pixels];
+        self.iterations = 0;
+        self.eye_ready = false;
+        self.cell = None;
+        self.rows = settings.shard;
+        if settings.width as u64 * settings.height as u64 > u32::MAX as u64 {
+            return Err(PrismError::invalid("ppm: image too large"));
+        }
+        Ok(())
+    }
+
+    fn render_pass(&mut self, scene: &Scene, pass: &PassInfo, cancel: &AtomicBool) -> PassOutput {
+        let fixed = self.params.mode == PpmMode::Fixed;
+        let mut complete = true;
+        for _ in 0..pass.spp.max(1) {
+            if !self.iterate(scene, pass.settings, cancel) {
+                complete = false;
+                break;
+            }
+        }
+        if self.iterations > 0 && !self.warned_no_visible_points && self.stats.iter().all(|s| !s.has_radius()) {
+            self.warned_no_visible_points = true;
+            if self.params.traces_glossy() {
+                eprintln!(
+                    "note: ppm: no eye path reached a diffuse surface, so no photon was gathered: the image is path \
+                     traced through the specular and glossy surfaces alone (complete; `envlight` renders it without \
+                     the photon passes)"
+                );
+            } else {
+                eprintln!(
+                    "warning: ppm: no visible points (no eye path reached a diffuse or glossy surface): only emission \
+                     seen through specular surfaces and the background is rendered"
+                );
+            }
+        }
+        PassOutput::Estimate { image: self.image(fixed), complete }
+    }
+
+    fn shard_axis(&self) -> prism_core::integrator::ShardAxis {
+        // Iterations depend on each other (radii shrink), so shards split the pixel rows; each shard traces every
+        // photon (the same ones) and gathers for its rows only.
+        prism_core::integrator::ShardAxis::Rows
+    }
+
+    fn save_state(&self) -> Vec<u8> {
+        let mut out = Vec::with_capacity(16 + self.stats.len() * gather::STATS_BYTES);
+        out.extend_from_slice(&self.iterations.to_le_bytes());
+        out.extend_from_slice(&self.photons_per_iteration.to_le_bytes());
+        for s in &self.stats {
+            s.to_bytes(&mut out);
+        }
+        out
+    }
+
+    fn load_state(&mut self, state: &[u8]) -> Result<()> {
+        let expected = 16 + self.stats.len() * gather::STATS_BYTES;
+        if state.len() != expected {
+            return Err(PrismError::invalid(format!(
+                "ppm: the film's photon-mapping state has {} bytes, expected {expected} (a film of another integrator or size?)",
+                state.len()
+            )));
+        }
+        let u = |i: usize| u64::from_le_bytes(state[8 * i..8 * i + 8].try_into().unwrap_or_default());
+        let (iterations, photons) = (u(0), u(1));
+        if photons != self.photons_per_iteration {
+            return Err(PrismError::invalid(format!(
+                "ppm: the film was rendered with {photons} photons per iteration, this render uses {}",
+                self.photons_per_iteration
+            )));
+        }
+        let mut stats = Vec::with_capacity(self.stats.len());
+        for chunk in state[16..].chunks_exact(gather::STATS_BYTES) {
+            stats
+                .push(PixelStats::from_bytes(chunk).ok_or_else(|| {
+                    PrismError::invalid("ppm: the film's photon-mapping state holds invalid numbers")
+                })?);
+        }
+        self.stats = stats;
+        self.iterations = iterations;
+        self.eye_ready = false;
+        Ok(())
+    }
+
+    fn status(&self) -> Option<String> {
+        Some(format!(
+            "{} iterations, {:.1} M photons emitted",
+            self.iterations,
+            (self.iterations * self.photons_per_iteration) as f64 / 1e6
+        ))
+    }
+}
