@@ -26,6 +26,7 @@ mod import_gltf;
 mod import_pbrt;
 mod import_ply;
 mod io;
+mod layers;
 mod lights;
 mod microfacet;
 mod mit6837;
