@@ -16,6 +16,7 @@ mod curve_stability;
 mod curves;
 mod debug;
 mod determinism;
+mod docs;
 mod envlight;
 mod envmap;
 mod examples;

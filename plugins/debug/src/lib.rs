@@ -1,21 +1,51 @@
-//! `debug`: views of the geometry and of the accelerator instead of light transport.
+//! # debug
 //!
-//! Modes (`debug(mode: ...)`):
-//! - `grid_cells`: the uniform grid's occupied cells as shaded cubes, coloured by how many primitives each holds
-//!   (dark blue = 1, through red, to yellow = the fullest cell; logarithmic), cell edges darkened; nested grids
-//!   show their finer cells. The 6.837 `-visualize_grid` view; needs `--accel grid`.
-//! - `heat` (default): per pixel, the traversal work of the camera ray through the scene's accelerator (any of
-//!   them): `heat: nodes` (BVH nodes tested, kd-tree nodes visited, grid cells visited), `prims` (primitive
-//!   tests) or `total` (both). Colour scale from 0 (black) to `max` (white); without `max`, the 99th percentile of
-//!   the image, printed on stderr. Give the same `max` to compare accelerators.
-//! - `normals`: the shading normal, `|n|` per channel (the 6.837 `-normals` view), or `(n + 1) / 2` with
-//!   `signed: true`.
-//! - `depth`: `(far - t) / (far - near)`, white near, black far (the 6.837 `-depth near far` view); `near` and
-//!   `far` default to the nearest and farthest distance of the scene's bounds from the camera.
+//! Views of the geometry and of the accelerator instead of light transport.
+//!
+//! ```text
+//! --integrator "debug(mode: heat, heat: nodes, max: None, signed: false, near: None, far: None, raw: false)"
+//! ```
+//!
+//! ## Modes
+//!
+//! - `grid_cells`: the uniform grid's occupied cells as shaded cubes, coloured by how many primitives each holds (dark
+//!   purple for one, through red and orange, to yellow for the fullest cell; logarithmic), cell edges darkened; nested
+//!   grids show their finer cells. The 6.837 `-visualize_grid` view; needs `--accel grid` (otherwise an error says so).
+//! - `heat` (the default): per pixel, the traversal work of the camera ray through the scene's accelerator, any of
+//!   them: `heat: nodes` (BVH nodes tested, kd-tree nodes visited, grid cells visited), `prims` (primitive tests) or
+//!   `total` (both). Black for 0 to white for `max`; without `max`, the 99th percentile of the image, printed on
+//!   stderr. Give the same `max` to compare accelerators. One ray through each pixel centre, the image replaced each
+//!   pass.
+//! - `normals`: the shading normal (normal and bump maps included), `|n|` per channel (the 6.837 `-normals` view), or
+//!   `(n + 1) / 2` with `signed: true`.
+//! - `depth`: `(far - t) / (far - near)`, white near, black far (the 6.837 `-depth near far` view); `near` and `far`
+//!   default to the nearest and farthest distance of the scene's bounds from the camera.
+//!
+//! ## Parameters
+//!
+//! | parameter | default | meaning |
+//! |---|---|---|
+//! | `mode` | `heat` | `grid_cells`, `heat`, `normals` or `depth` |
+//! | `heat` | `nodes` | `nodes`, `prims` or `total`: what a heat map counts |
+//! | `max` | `None` | the count shown white (positive, finite); default the image's 99th percentile |
+//! | `signed` | `false` | `normals`: `(n + 1) / 2` instead of `abs(n)` |
+//! | `near`, `far` | `None` | `depth`: the distances shown white and black (finite; `far` must be greater than `near`) |
+//! | `raw` | `false` | write the shown values themselves, for linear outputs such as the 6.837 `.tga`, instead of the linear radiance a PNG shows as those values |
 //!
 //! The colours are written so a PNG shows them as listed (sRGB values); with `raw: true` the values themselves are
-//! written (a linear `.tga` then shows them as listed, as the 6.837 course's images). One camera ray per sample through the
-//! pixel pattern; `heat` traces one ray through each pixel centre and replaces the image each pass.
+//! written, so a linear `.tga` shows them as listed, as the course's images do. `grid_cells`, `normals` and `depth`
+//! trace one camera ray per sample through the pixel pattern.
+//!
+//! ## What it is for
+//!
+//! Comparing accelerators (`prism render scene.txt --accel kdtree --integrator 'debug(mode: heat, max: 100)'`),
+//! seeing where a grid is crowded, the 6.837 course's debug views, and checking normals and normal maps.
+//!
+//! ## Failure modes
+//!
+//! - `grid_cells` without a uniform grid is an error naming the accelerator in use.
+//! - A non-positive or non-finite `max`, non-finite `near` or `far`, or `far` not greater than `near`, are one-line
+//!   errors naming the parameter.
 
 use glam::{Vec2, Vec3, Vec3A};
 use prism_core::accel::TraversalWork;

@@ -1,45 +1,94 @@
-//! `ppm`: progressive photon mapping with a hash-grid photon lookup.
+//! # ppm
 //!
-//! **Stochastic progressive photon mapping** (Hachisuka & Jensen 2009), the default. Every iteration:
-//! 1. an eye pass (`visible.rs`): one camera sample per pixel traced through specular chains (and, by default,
-//!    through glossy surfaces, path-traced with MIS) to its first smooth vertex, the *visible point*, which also
-//!    gets direct light by next-event estimation;
-//! 2. a photon pass (`photons.rs`): `photons` photons from the lights (chosen by power, `sample_le`), stored from
-//!    their second vertex on (direct light is the eye pass's), scattered with exact Fresnel and Russian roulette
-//!    (traced first in the code, so the lookup over them is built while the eye pass runs);
-//! 3. a gather: each visible point sums `photon power x BSDF` over the photons within its pixel's radius `R`
-//!    (found through the hash grid or the kd-tree, on the same photons), then the pixel statistics update as
-//!    `N <- N + alpha M`, `R <- R sqrt((N + alpha M) / (N + M))`, `tau <- (tau + beta Phi) (R_new / R)^2`.
+//! Progressive photon mapping with a hash-grid photon lookup: stochastic progressive photon mapping (Hachisuka &
+//! Jensen 2009) by default, or the original fixed-visible-point method.
 //!
-//! The pixel's estimate after k iterations is `direct / k + tau / (k photons pi R^2)`: PPM's bias shrinks with R
-//! while its variance stays bounded, so the error goes to 0 as iterations grow.
+//! ```text
+//! --integrator "ppm(alpha: 0.7, radius: None, radius_pixels: 3, photons: None, max_depth: -1, mode: stochastic, lookup: hash_grid, glossy: trace)"
+//! ```
 //!
-//! **Fixed mode** (the original PPM, Hachisuka, Ogaki & Jensen 2008): one eye pass through the pixel centres at the
-//! start, fixed visible points, then photon passes only, with photons stored from their first vertex (they carry
-//! direct light too). No anti-aliasing, no depth of field: what the stochastic variant buys.
+//! ## What it computes
 //!
-//! Parameters: `ppm(alpha: 0.7, radius: None, radius_pixels: 3, photons: None, max_depth: -1, mode: stochastic,
-//! lookup: hash_grid, glossy: trace)`
-//! - `alpha`: the fraction of new photons kept per iteration, in (0, 1] (the seed's 0.7);
-//! - `radius`: the initial gather radius in world units; by default each pixel's is `radius_pixels` pixel
-//!   footprints at its first visible point (distance along the eye path x the pixel's angular size), so the same
-//!   settings work at any scene scale and resolution: with `photons` = the pixel count, a radius of 3 pixels holds a
-//!   few photons per iteration on any diffuse surface the camera sees (3 measured best at equal time on all five
-//!   reference scenes at 256x256: `docs/performance_log.md`);
-//! - `photons`: photons per iteration (default: the image's pixel count; at most 2^24);
-//! - `max_depth`: the longest light path in segments, counted as Mitsuba and `envlight` count them (-1 unlimited;
-//!   a photon deposited at its vertex v reaching a visible point after e specular eye vertices makes a path of
-//!   `e + v + 2` segments), so `ppm` and `envlight` render the same image for the same `max_depth`;
-//! - `mode`: `stochastic` | `fixed`; `lookup`: `hash_grid` | `kdtree`;
-//! - `glossy`: `trace` (eye paths go on through glossy surfaces, rough metal and glass, and photons are not stored
-//!   on them) | `gather` (visible points on them, which blurs what they reflect and blackens rough glass); fixed
-//!   mode always gathers.
+//! Each iteration is one sample of the render's budget (`--spp 64` is 64 iterations; `--time` stops after the
+//! iteration that crosses it):
 //!
-//! Deterministic whatever the thread count: photon `j` of iteration `k` draws from (seed, k, j), photons are stored
-//! in a fixed order, and each pixel sums its photons in a fixed order without atomics. Storage (visible points,
-//! photons, lookup structures) is allocated once and reused, so memory stays flat over iterations. Each progressive
-//! pass of the render is `spp` of the pass's iterations (`--spp 64` renders 64 iterations); `--time` stops after the
-//! iteration that crosses the budget; a cancelled iteration is dropped and the image of the completed ones kept.
+//! 1. **Eye pass**: one camera sample per pixel (sample index = iteration, so pixel positions and lens samples are
+//!    stratified over iterations) traced through mirrors and dielectrics (exact Fresnel split) to its first vertex
+//!    with a smooth lobe, the *visible point*, which also gets direct light by next-event estimation. Emission seen
+//!    along the chain goes to the pixel. With `glossy: trace`, glossy surfaces (smooth lobes but none diffuse: rough
+//!    metal and glass, a lone Phong lobe) are path-traced through as `envlight` does (next-event estimation and the
+//!    BSDF sample weighted by MIS, Russian roulette from the fifth eye vertex), and the visible point lies on the next
+//!    diffuse surface.
+//! 2. **Photon pass**: `photons` photons from the lights (chosen by power), scattered with importance-transport
+//!    sampling (no `1/eta^2` on refraction, the shading-normal correction) and Russian roulette on the throughput drop,
+//!    stored from their *second* vertex on (direct light is the eye pass's) at surfaces with a smooth lobe (not on
+//!    glossy ones with `glossy: trace`). The lookup over them is built while the eye pass runs.
+//! 3. **Gather**: each visible point sums photon power x BSDF over the photons within its pixel's radius `R` that
+//!    arrived on the side it is seen from, then updates `N <- N + alpha M`, `R <- R sqrt((N + alpha M) / (N + M))`,
+//!    `tau <- (tau + beta Phi) (R_new / R)^2`.
+//!
+//! The pixel after k iterations is `direct / k + tau / (k photons pi R^2)`: the bias shrinks with `R` while the
+//! variance stays bounded, so the error goes to 0 as iterations grow.
+//!
+//! **Fixed mode** (Hachisuka, Ogaki & Jensen 2008): one eye pass through the pixel centres at the start, fixed visible
+//! points, then photon passes only, with photons stored from their first vertex (they carry direct light too). No
+//! anti-aliasing and no depth of field: it converges to a point-sampled picture, not to the pixel-filtered reference.
+//!
+//! ## Parameters
+//!
+//! | parameter | default | meaning |
+//! |---|---|---|
+//! | `alpha` | 0.7 | the fraction of new photons kept per iteration, in `(0, 1]` |
+//! | `radius` | `None` | the initial gather radius in world units; by default each pixel's is `radius_pixels` pixel footprints at its first visible point (distance along the eye path x the pixel's angular size) |
+//! | `radius_pixels` | 3 | the default radius in pixel footprints (positive) |
+//! | `photons` | `None` | photons per iteration; default the image's pixel count; 1 to 2^24 |
+//! | `max_depth` | -1 | the longest light path in segments, counted as `envlight` counts them (-1 unlimited): a photon deposited at its vertex v reaching a visible point after e specular eye vertices makes `e + v + 2` segments, so `ppm` and `envlight` render the same image for the same `max_depth` |
+//! | `mode` | `stochastic` | `stochastic` or `fixed` |
+//! | `lookup` | `hash_grid` | `hash_grid` or `kdtree` (the balanced photon map, on the same photons) |
+//! | `glossy` | `trace` | `trace`: eye paths go on through glossy surfaces and photons are not stored on them; `gather`: visible points on them, which blurs what they reflect and blackens rough glass. Fixed mode always gathers |
+//!
+//! The defaults are scale-free: with `photons` = the pixel count, a radius of 3 pixel footprints holds a few photons
+//! per iteration on any surface the camera sees, at any scene scale or resolution.
+//!
+//! ## What it is for
+//!
+//! Caustics, and light that reaches the camera through a diffuse bounce from specular paths: on the caustic Cornell
+//! box it reaches Mitsuba's path-traced error in a fraction of Mitsuba's time, and with `glossy: trace` it renders
+//! rough metal and glass well too ([Performance](../performance.md)). How it works in detail, with pictures of every
+//! failure mode: [Photon mapping](../design/photon-mapping.md).
+//!
+//! ## Guarantees
+//!
+//! - **Deterministic** whatever the thread count: photon `j` of iteration `k` draws its numbers from (seed, k, j),
+//!   photons are stored in a fixed order, and each pixel sums its photons in a fixed order without atomics.
+//! - **Flat memory**: visible points, photons and lookup structures are allocated once and reused.
+//! - **Shards** split pixel rows (`y % N == K`), every shard tracing the same photons; a cancelled iteration is dropped
+//!   and the image of the completed ones kept; resumes are bit-identical.
+//!
+//! ## Failure modes
+//!
+//! - **Radius far too small** (`radius: 0.0001`, a hundredth of a pixel): almost no photon per pixel, speckle noise and
+//!   a dark indirect image at first, but the image mean is right and keeps converging.
+//! - **Radius far too large** (`radius: 0.5`, a quarter of the box): indirect light blurred across edges at first; the
+//!   radius shrinks every iteration and the blur with it.
+//! - **Walls thinner than the radius** do not leak: photons on the far side of a surface's normal are not gathered.
+//! - **Only specular surfaces** (a mirror sphere under a sky): no visible points, a warning, and the image is the sky
+//!   seen directly and in the mirror, exactly.
+//! - **Only glossy surfaces**: no visible points, a note, and the eye paths traced through the glossy surfaces are the
+//!   whole estimate, a path tracer's.
+//! - **Very many iterations**: radii shrink as `k^((alpha - 1) / 2)` but stay positive and finite (f64 statistics, a
+//!   floor at 1e-12 of the initial area).
+//! - **A light of zero power**: a warning, nothing emitted, a black image.
+//! - `--adaptive` has no effect (a warning).
+//! - Bad parameters (`alpha` outside `(0, 1]`, `radius` or `radius_pixels` not positive, `photons` 0 or above 2^24,
+//!   `max_depth` 0, unknown values of `mode`, `lookup` or `glossy`, unknown fields) are one-line errors naming the
+//!   parameter.
+//!
+//! ## In the source
+//!
+//! `params.rs` (the parameters and their checks), `visible.rs` (the eye pass and its visible points), `photons.rs`
+//! (the photon pass), `hash_grid.rs` and `kd_tree.rs` (the two photon lookups), `gather.rs` (the radius update and
+//! the estimate), `lib.rs` (the iteration, its state for resumes, and the shard by pixel rows).
 
 pub mod gather;
 mod hash_grid;
