@@ -122,7 +122,7 @@ fn bench_ppm(c: &mut Criterion) {
             b.iter(|| pool.install(|| gather_all(&s, &eye, &r, &|p, r, f| kd.query(p, r, f))))
         });
         g.finish();
-        // Interleaved best-of-15 build + gather, the ratio the README reports.
+        // Interleaved best-of-15 build + gather, the ratio docs/decisions/0022-photon-hash-grid.md reports.
         let (mut tg, mut tk) = (f64::INFINITY, f64::INFINITY);
         for _ in 0..15 {
             let t = Instant::now();

@@ -1,5 +1,6 @@
 //! How far a wide-SIMD ray kernel is from Prism's one-ray-at-a-time BVH on a tiny scene (`cargo bench --bench
-//! wide_kernel`): the evidence behind the README's "Where along the path". An experiment, not a Prism accelerator.
+//! wide_kernel`): evidence for `docs/decisions/0020-one-path-at-a-time.md` (no wavefront). An experiment, not a
+//! Prism accelerator.
 //!
 //! On the Cornell box of the Mitsuba comparison (`scenes/cornell_box.ron`, 36 triangles) it takes the ray sets of
 //! `prism bench` (camera rays through the 256 x 256 pixel centres, one diffuse bounce from each camera hit), packs
@@ -20,8 +21,8 @@
 //! sure answers are hits, an unsure ray goes to the tree alone, so it can stand in for the tree; bounce rays name
 //! the triangle they leave, as the renderer's do.
 //!
-//! The kernel is not a drop-in for Prism's traversal: it needs rays sixteen at a time, which is the integrator
-//! redesign the README names, and brute force only pays on scenes this small.
+//! The kernel is not a drop-in for Prism's traversal: it needs rays sixteen at a time, which is the wavefront
+//! redesign decision 0020 did not make, and brute force only pays on scenes this small.
 
 #[path = "wide_kernel/robust_block.rs"]
 mod robust_block;

@@ -12,7 +12,7 @@
 //! wrong root), except when the reference's answer is within its own accuracy of changing (the ray passes within
 //! the reference's error of grazing: `|cos| < 1e-3` at the disagreeing hit). CI runs a few thousand rays per class
 //! and requires zero failures; `cargo test --release --test tests -- --ignored curve_stability` runs 10^6 rays per
-//! class and prints the table the README quotes.
+//! class and prints the table `docs/design/curved-surfaces.md` quotes.
 
 use glam::{DAffine3, DVec3, Vec3A};
 use prism::geometry::Ray;
@@ -477,7 +477,7 @@ fn newton_on_revolutions_finds_the_nearest_root_in_every_hostile_ray_class() {
     }
 }
 
-/// The 10^6-ray measurement of the README (run with `--ignored`): 10^6 rays per class (`PRISM_RAYS`), split
+/// The 10^6-ray measurement of `docs/design/curved-surfaces.md` (run with `--ignored`): 10^6 rays per class (`PRISM_RAYS`), split
 /// evenly over the profiles; one table row per profile and class, then the totals per class.
 #[test]
 #[ignore]

@@ -562,7 +562,7 @@ fn degenerate_and_extreme_curved_shapes_render_without_panics() {
     }
 }
 
-/// Beyond the world-coordinate limit (README "Reliability": products of coordinates must stay finite in f32) a
+/// Beyond the world-coordinate limit (`docs/guide/reliability.md`: products of coordinates must stay finite in f32) a
 /// curved shape is refused by name, as spheres and triangles are, instead of failing later in some other guise.
 #[test]
 fn curved_shapes_beyond_the_coordinate_limit_are_errors_naming_them() {

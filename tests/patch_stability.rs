@@ -256,7 +256,7 @@ pub fn patch_tally(points: &[DVec3; 16], reference: &prism::App, class: RayClass
 /// Patch classes: random rays aimed at the patch, grazing, starting on it, spawned from exact hits.
 pub const PATCH_CLASSES: [RayClass; 4] = [RayClass::Random, RayClass::Grazing, RayClass::OnSurface, RayClass::Spawned];
 
-/// The 10^6-ray measurement of the README (run with `--ignored`): 10^6 rays per class (`PRISM_RAYS`), split
+/// The 10^6-ray measurement of `docs/design/curved-surfaces.md` (run with `--ignored`): 10^6 rays per class (`PRISM_RAYS`), split
 /// evenly over the nine patches; one row per patch and class, then the totals per class.
 #[test]
 #[ignore]

@@ -80,7 +80,7 @@ fn bench_size_and_render_size_beyond_the_documented_limits_are_errors() {
     let out = dir.join("o.png");
     assert_error(&["render", s(&scene), "-o", s(&out), "--size", "16384x16384", "-q"], &["too large"]);
     assert_error(&["render", s(&scene), "-o", s(&out), "--size", "8192x8192", "-q"], &["too large"]);
-    assert_eq!(prism::limits::MAX_IMAGE_PIXELS, 1 << 25, "README documents 2^25 pixels");
+    assert_eq!(prism::limits::MAX_IMAGE_PIXELS, 1 << 25, "docs/guide/reliability.md documents 2^25 pixels");
 }
 
 // ---- Recursion on user-controlled depth --------------------------------------------------------------------

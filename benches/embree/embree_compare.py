@@ -96,8 +96,8 @@ def ensure_prism():
 
 def prism_bench(prism, scene, seconds, export_dir):
     """Mrays/s (camera, bounce, shadow) of Prism's BVH, one thread; exports the rays into export_dir. Runs a fresh
-    copy of the binary: the same bytes run from two files differed by up to 15% on the Zen 5 machine (where the page
-    cache put the executable), so each round gets its own placement and the rounds average it out."""
+    copy of the binary: the same bytes run from two files differed by up to 15% (where the page cache put the
+    executable; docs/decisions/0029-measure-interleaved-fresh-copies.md), so each round gets its own placement and the rounds average it out."""
     fd, name = tempfile.mkstemp(prefix="prism-", suffix=".bin", dir=export_dir.parent)
     os.close(fd)
     copy = Path(name)

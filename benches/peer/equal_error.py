@@ -11,7 +11,7 @@ from peer_setup import REFS, log
 
 def time_to_error(points, target):
     """Time at which the (time, error) curve reaches `target`, interpolated in log-log between the first pair of
-    points (in time order) that brackets it, as src/converge.rs::time_to_error; outside the curve's range,
+    points (in time order) that brackets it, as crates/lab/src/converge.rs::time_to_error; outside the curve's range,
     extrapolated from the nearest segment. Returns (time, extrapolated) or (None, False)."""
     import math
     pts = sorted((t, e) for t, e in points if t > 0 and e > 0)

@@ -47,15 +47,14 @@ with a message):
 Output (stdout and target/peer/results/): per scene, renderer and spp the median time (min-max), the mean RMSE
 and Msamples/s; and the equal-error time ratio Prism / Mitsuba-ldsampler (and / Mitsuba-independent) at each
 of the peer's spp: the peer's mean RMSE there is the target, Prism's (median time, mean RMSE) points are
-interpolated in log-log to the time they reach it (as src/converge.rs::time_to_error does; `~` marks a value
+interpolated in log-log to the time they reach it (as crates/lab/src/converge.rs::time_to_error does; `~` marks a value
 extrapolated from the nearest segment), divided by the peer's median time. Beside it, a 95% bootstrap interval
 (the same ratio over repetitions drawn with replacement, each keeping its Prism and peer renders together) and the
 per-repetition range (min-max of the ratio from each repetition's own points alone, which need not contain the
 headline). Where NAME.json gives the reference's own noise, a ratio with
 both errors corrected for it (sqrt(rmse^2 - noise^2)) is shown too.
 
-The profile-guided build (`--pgo`; once Prism's fastest binary, 4-7% slower than the plain one on the AMD Zen 4 of
-2026-11-28, see the performance log): every Prism configuration is run twice, by the plain `cargo build --release`
+The profile-guided build (`--pgo`; slower than the plain one, docs/decisions/0018-pgo-not-default.md): every Prism configuration is run twice, by the plain `cargo build --release`
 binary and by the profile-guided build of benches/pgo/build.sh (target/pgo/prism, built first when it is missing or
 was built from other sources, by a hash of them kept beside it; labels ending in `-pgo`), interleaved like the rest.
 With --cost-by-depth, --pgo times the profile-guided binary instead of the plain one.
@@ -189,7 +188,7 @@ class Mitsuba:
 
 def fresh_copy(binary):
     """A new copy of `binary` under target/peer/tmp, to run once and delete: the same bytes run from different files
-    differed by up to 15% on the Zen 5 machine (the page cache's placement of the executable), so every Prism run
+    differed by up to 15% (the page cache's placement of the executable; docs/decisions/0029-measure-interleaved-fresh-copies.md), so every Prism run
     executes a fresh copy and that bias becomes noise that the repetitions average, instead of a constant offset."""
     tmp = PEER / "tmp"
     tmp.mkdir(parents=True, exist_ok=True)

@@ -17,11 +17,8 @@
 #    `ppm` render, compared byte for byte with `target/release/prism`'s (built if missing). PGO changes which code
 #    is laid out where and what is inlined, never the floating-point operations, so the images must match.
 #
-# Measured on AMD Zen 5 (2026-11-26): the Cornell box, cornell_rough and cornell_caustic rendered 13-14% faster than
-# with `cargo build --release` (README, "Where the time goes now"); most of that was inlining, which the plain build
-# has since been given by hand. On the AMD Zen 4 with rustc 1.95 and the code of 2026-11-28 (twentieth session) the
-# profile-guided binary is 4-7% slower than the plain one (benches/ab_render.py, performance log). The default build
-# stays the plain one; this script remains for measuring, and CI checks that its images match.
+# The default build stays the plain one (the profile-guided binary measured slower than it:
+# docs/decisions/0018-pgo-not-default.md); this script remains for measuring, and CI checks that its images match.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 ROOT=$(pwd)

@@ -4,8 +4,8 @@
 //! within the bound of its closest candidate's edge, that grazes a candidate's plane, or whose candidate may be the
 //! surface it starts on (an interval reaching 0) is marked unsure,
 //! for the one-ray query to trace. A sure ray's hit is the kernel's own (distance and barycentric weights from the
-//! side numbers). An experiment for the README's "The width, tried", not a Prism accelerator: the numbers and the
-//! path tracer trial that used it are in the performance log (eighteenth session).
+//! side numbers). An experiment, not a Prism accelerator: `cargo bench --bench wide_kernel` prints its numbers beside the
+//! other kernels'.
 //!
 //! Per directed edge `q -> p` (v0 -> v1, v1 -> v2, v2 -> v0) a triangle keeps twice its direction and its moment
 //! `(p - q) x (p + q)`; a ray's side of the edge is `m . d - 2 (p - q) . (o x d)`, `o x d` once per ray. A neighbour

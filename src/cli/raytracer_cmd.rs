@@ -1,5 +1,5 @@
 //! `prism raytracer -input scene.txt -size 200 200 -output out.tga ...`: a 6.837 course command line (assignments
-//! 1-7), translated option by option into `prism render` runs. The mapping (also in the README):
+//! 1-7), translated option by option into `prism render` runs. The mapping (also in `docs/guide/mit6837.md`):
 //!
 //! | course option | Prism |
 //! |---|---|

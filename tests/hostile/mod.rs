@@ -1,7 +1,7 @@
 //! Several hundred hostile inputs, generated (deterministically) by class, each run through the `prism` binary
 //! with a timeout. Every run must end in a render (exit 0) or a clean one-line error (exit 1, one `error:` line,
 //! no panic); inputs known to be bad must be errors, inputs known to be good must render. The counts by class and
-//! outcome are printed and written to `target/hostile-report.md` (quoted in the README's "Reliability" section).
+//! outcome are printed and written to `target/hostile-report.md` (summarised in docs/guide/reliability.md).
 //!
 //! Classes: forged and truncated images (`images.rs`), mutated RON, 6.837 and OBJ/MTL scenes (`scenes.rs`),
 //! hostile command-line values, file kinds, outputs and film files (`cli.rs`).

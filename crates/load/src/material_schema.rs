@@ -1,4 +1,4 @@
-//! The RON schema of materials and textures (README "Materials" and "Textures"). A colour or scalar parameter is
+//! The RON schema of materials and textures (`docs/guide/materials.md` and `docs/guide/textures.md`). A colour or scalar parameter is
 //! a constant or a texture reference:
 //!
 //! ```ron

@@ -1,5 +1,5 @@
 //! The RON scene schema: what a user writes. Every struct denies unknown fields and defaults whatever has a
-//! sensible default, so a minimal scene is a few lines. See README "Scene format" for the reference.
+//! sensible default, so a minimal scene is a few lines. The reference is the book's `docs/guide/scene-format.md`.
 
 pub use super::material_schema::{ColorDesc, MaterialDesc, ScalarDesc, ScaleDesc, TextureDesc, TextureRef};
 use prism_core::sampling::{PixelFilter, PixelPattern, SamplerKind};

@@ -1,6 +1,6 @@
 //! The suite file of `prism report` (RON, every struct rejects unknown fields, paths relative to the suite file):
 //! which scenes to measure against which references with which methods and budgets, which accelerators to
-//! benchmark, and which failure modes to picture. The README's "Report" section documents every field; the
+//! benchmark, and which failure modes to picture. `docs/guide/report.md` documents every field; the
 //! default suite is `scenes/report/default.ron`.
 //!
 //! ```ron

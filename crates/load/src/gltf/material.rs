@@ -1,4 +1,4 @@
-//! glTF materials as Prism materials (README "glTF" has the table):
+//! glTF materials as Prism materials (the table is in `docs/guide/import-gltf.md`):
 //!
 //! - `pbrMetallicRoughness`: `Blend(a: RoughPlastic(diffuse: base, specular: 1, ior: 1.5), b:
 //!   RoughConductor(reflectance: base), weight: metallic)`, the specification's own split of its BRDF into a

@@ -4,8 +4,8 @@
 //! - The default scene's node hierarchy becomes nested entities (`Transform` from the node's matrix or TRS,
 //!   `Parent`); each primitive of a node's mesh is a child entity with its `Shape::Mesh`, material, emission
 //!   and alpha. A mesh used by several nodes is read once: its `MeshData` is stored once in the mesh table and
-//!   every node refers to it (the world-space triangles the accelerator holds are still made per use; see README
-//!   "glTF" on instancing).
+//!   every node refers to it (the world-space triangles the accelerator holds are still made per use; see
+//!   `docs/guide/import-gltf.md` on instancing).
 //! - Primitives: triangles (strips and fans are converted; points and lines are left out with a warning),
 //!   indices, POSITION, NORMAL (flat shading without), TEXCOORD_0/1, TANGENT (MikkTSpace by the specification;
 //!   generated with MikkTSpace when absent and a normal map needs them).

@@ -253,7 +253,7 @@ pub fn to_ron(scene: &SceneTxt, file: &Path, mesh_base: &Path, exact_curves: boo
     let mut s = String::new();
     let _ = writeln!(
         s,
-        "// {} converted by `prism convert`: 6.837 conventions in Prism's units (README, \"6.837 scenes\").",
+        "// {} converted by `prism convert`: 6.837 conventions in Prism's units (Prism's book: docs/guide/mit6837.md).",
         file.file_name().map_or_else(String::new, |n| n.to_string_lossy().into())
     );
     s += "(\n";

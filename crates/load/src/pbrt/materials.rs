@@ -1,4 +1,4 @@
-//! pbrt materials and textures as Prism's (README "pbrt scenes" has the table). Approximations are reported
+//! pbrt materials and textures as Prism's (the table is in `docs/guide/import-pbrt.md`). Approximations are reported
 //! once each. Roughness is remapped as the file's pbrt version does (`remaproughness`, default true): pbrt-v3's
 //! `RoughnessToAlpha` polynomial in `ln r`, pbrt-v4's `sqrt(r)`; Prism's GGX `alpha` is then pbrt's alpha.
 //! Image textures keep pbrt's orientation: meshes' uvs become `(u, 1 - v)` (pbrt flips images vertically, Prism
