@@ -23,7 +23,10 @@ pub const NO_ALPHA: u32 = u32::MAX;
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum AlphaMode {
     /// Opaque where `alpha >= cutoff`, a hole elsewhere.
-    Mask { cutoff: f32 },
+    Mask {
+        /// The alpha from which the surface is there (glTF's `alphaCutoff`; a tiny one for pbrt's alpha textures).
+        cutoff: f32,
+    },
     /// Met with probability `alpha` (stochastic transparency).
     Blend,
 }
@@ -33,7 +36,9 @@ pub enum AlphaMode {
 pub struct AlphaMask {
     /// A grey image of alpha values (its red channel is used); `None`: the constant `factor`.
     pub texture: Option<ImageMap>,
+    /// Constant alpha, or the factor on the texture's (glTF `baseColorFactor`'s alpha), normally in `[0, 1]`.
     pub factor: f32,
+    /// Cut-out or stochastic transparency.
     pub mode: AlphaMode,
 }
 

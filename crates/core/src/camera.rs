@@ -24,22 +24,38 @@ use glam::{Affine3A, Vec2, Vec3, Vec3A};
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Projection {
     /// Pinhole; `fov_y` is the full vertical field of view in degrees.
-    Perspective { fov_y: f32 },
+    Perspective {
+        /// Full vertical field of view of the full frame, degrees, in `(0, 180)`.
+        fov_y: f32,
+    },
     /// Parallel projection; `height` is the world-space height of the view.
-    Orthographic { height: f32 },
+    Orthographic {
+        /// Height of the full frame's view, world units.
+        height: f32,
+    },
 }
 
 /// A camera looking from `eye` to `target` (local frame of its entity), with an image size in pixels. An
 /// `aperture_radius` above 0 makes it a thin lens focused at `focus_distance` along the view direction.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Camera {
+    /// Position of the eye (the pinhole, or the lens centre), in the entity's frame.
     pub eye: Vec3,
+    /// The point looked at, in the entity's frame; `target - eye` is the view direction.
     pub target: Vec3,
+    /// Up hint, in the entity's frame: image-up is the part of it perpendicular to the view (it must not be
+    /// parallel to the view).
     pub up: Vec3,
+    /// Perspective or orthographic, with its field of view.
     pub projection: Projection,
+    /// Image width in pixels (the crop window's, when cropped).
     pub width: u32,
+    /// Image height in pixels (the crop window's, when cropped).
     pub height: u32,
+    /// Radius of the thin lens's aperture disk, world units; 0 is a pinhole.
     pub aperture_radius: f32,
+    /// Distance from the eye to the plane of focus along the view direction, world units (used only when
+    /// `aperture_radius > 0`).
     pub focus_distance: f32,
     /// Mirror the image left-right: image-right is `up x forward` instead of `forward x up` (pbrt's left-handed
     /// screen space; a pbrt `LookAt` camera sees the world mirrored relative to Prism's convention).
@@ -81,12 +97,14 @@ pub struct CameraRig {
     /// The film window as fractions of the full frame: `[x0, y0, x1 - x0, y1 - y0]` (`[0, 0, 1, 1]` uncropped).
     window: [f32; 4],
     /// `window[2] / width` and `window[3] / height`: film pixels to full-frame fractions by one multiplication (a
-    /// division sat on every sample's path from its pixel position to its first traversal step).
+    /// division would sit on every sample's path from its pixel position to its first traversal step).
     film_scale: [f32; 2],
     ortho: bool,
     aperture_radius: f32,
     focus_distance: f32,
+    /// Image width in pixels (the crop window's, when cropped).
     pub width: u32,
+    /// Image height in pixels (the crop window's, when cropped).
     pub height: u32,
 }
 
@@ -213,10 +231,12 @@ impl CameraRig {
         if self.ortho { per_pixel } else { per_pixel * distance }
     }
 
+    /// The eye (pinhole or lens centre), world space.
     pub fn eye(&self) -> Vec3A {
         self.eye
     }
 
+    /// The unit view direction, world space.
     pub fn forward(&self) -> Vec3A {
         self.forward
     }

@@ -6,8 +6,11 @@ use std::path::PathBuf;
 /// A position in a source file, 1-based, as editors show it.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct SourcePos {
+    /// The file, as the user named it (or as an include resolved it).
     pub file: PathBuf,
+    /// Line, from 1.
     pub line: usize,
+    /// Column, from 1.
     pub col: usize,
 }
 
@@ -17,45 +20,68 @@ impl std::fmt::Display for SourcePos {
     }
 }
 
+/// Every error Prism reports; its `Display` is the one line the CLI prints.
 #[derive(Debug, thiserror::Error)]
 pub enum PrismError {
     /// A syntax or schema error in a scene file, with its position.
     #[error("{pos}: {message}")]
-    Parse { pos: SourcePos, message: String },
+    Parse {
+        /// Where in the file.
+        pos: SourcePos,
+        /// What is wrong there.
+        message: String,
+    },
     /// A scene that parsed but makes no sense (NaN transform, zero-area triangle, unknown material ...).
     /// `context` names the file and the entity or field.
     #[error("{context}: {message}")]
-    Scene { context: String, message: String },
+    Scene {
+        /// The file and the entity or field at fault.
+        context: String,
+        /// What is wrong with it.
+        message: String,
+    },
     /// A file that could not be read or written.
     #[error("{}: {source}", path.display())]
     Io {
+        /// The file that could not be read or written.
         path: PathBuf,
+        /// The operating system's error.
         #[source]
         source: std::io::Error,
     },
     /// An image or mesh file that exists but cannot be decoded.
     #[error("{}: {message}", path.display())]
-    Format { path: PathBuf, message: String },
+    Format {
+        /// The file that cannot be decoded.
+        path: PathBuf,
+        /// Why it cannot be decoded.
+        message: String,
+    },
     /// A bad option or setting (CLI flag, render setting).
     #[error("{0}")]
     Invalid(String),
 }
 
 impl PrismError {
+    /// A [`PrismError::Scene`] error.
     pub fn scene(context: impl Into<String>, message: impl Into<String>) -> Self {
         PrismError::Scene { context: context.into(), message: message.into() }
     }
+    /// A [`PrismError::Invalid`] error.
     pub fn invalid(message: impl Into<String>) -> Self {
         PrismError::Invalid(message.into())
     }
+    /// A [`PrismError::Io`] error on `path`.
     pub fn io(path: impl Into<PathBuf>, source: std::io::Error) -> Self {
         PrismError::Io { path: path.into(), source }
     }
+    /// A [`PrismError::Format`] error on `path`.
     pub fn format(path: impl Into<PathBuf>, message: impl Into<String>) -> Self {
         PrismError::Format { path: path.into(), message: message.into() }
     }
 }
 
+/// The result of every fallible Prism operation.
 pub type Result<T, E = PrismError> = std::result::Result<T, E>;
 
 /// `s` as one printable line: control characters (newlines, escapes, NUL ...) from file or entity names become

@@ -1,4 +1,4 @@
-//! Prism's documented limits on untrusted input, in one place (README "Reliability"). Every file header, scene
+//! Prism's documented limits on untrusted input, in one place (`docs/guide/reliability.md`). Every file header, scene
 //! value and command-line number that sizes an allocation, a recursion, a thread pool or a wait is checked
 //! against one of these before it is used, so bad input is a one-line error instead of an abort, a stack overflow
 //! or a hang.

@@ -11,10 +11,15 @@ pub struct MeshHandle(pub u32);
 /// position.
 #[derive(Clone, Debug, Default)]
 pub struct MeshData {
+    /// A name for messages and statistics (the file name, or `quad` / `cube`).
     pub name: String,
+    /// Vertex positions, local frame.
     pub positions: Vec<Vec3>,
+    /// Vertex normals (one per position, or none: flat shading).
     pub normals: Vec<Vec3>,
+    /// Vertex texture coordinates (one per position, or none).
     pub uvs: Vec<Vec2>,
+    /// Triangles as three indices into the vertex arrays; counter-clockwise seen from the front.
     pub indices: Vec<[u32; 3]>,
     /// Tangents supplied by the file (glTF `TANGENT`: xyz along increasing u, w the bitangent sign); normal maps
     /// use them instead of generating MikkTSpace tangents.
@@ -92,19 +97,23 @@ pub struct MeshStore {
 }
 
 impl MeshStore {
+    /// Store `mesh` and return its handle (handles are never reused).
     pub fn add(&mut self, mesh: MeshData) -> MeshHandle {
         self.meshes.push(Arc::new(mesh));
         MeshHandle(self.meshes.len() as u32 - 1)
     }
 
+    /// The mesh of handle `h` (a handle of this store; panics otherwise).
     pub fn get(&self, h: MeshHandle) -> &MeshData {
         &self.meshes[h.0 as usize]
     }
 
+    /// Number of meshes stored.
     pub fn len(&self) -> usize {
         self.meshes.len()
     }
 
+    /// True when no mesh is stored.
     pub fn is_empty(&self) -> bool {
         self.meshes.is_empty()
     }

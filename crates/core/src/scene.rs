@@ -23,13 +23,21 @@ pub struct SceneGlobals {
     pub ambient: Vec3,
 }
 
+/// Everything a render reads: built once before the first pass, then shared read-only by every thread.
 pub struct Scene {
+    /// The camera the render looks through, in world space.
     pub camera: CameraRig,
+    /// Every primitive in world space.
     pub prims: Primitives,
+    /// The accelerator over the bounded primitives.
     pub accel: Accel,
+    /// The lights in world space.
     pub lights: LightSet,
+    /// The material table primitives' `material` indices refer to.
     pub materials: MaterialSet,
+    /// The texture table materials refer to.
     pub textures: TextureSet,
+    /// Background and ambient radiance.
     pub globals: SceneGlobals,
     /// Set when the render is cancelled (Ctrl-C): estimators whose work per sample can be huge (Whitted-style
     /// branching) check it and return early; the sample is then discarded.
@@ -121,6 +129,7 @@ impl Scene {
         self.intersect(ray).map(|h| self.prims.surface(ray, &h))
     }
 
+    /// Material `id` of the table (an index some primitive holds; panics beyond the table).
     #[inline]
     pub fn material(&self, id: u32) -> &Material {
         &self.materials[id as usize]

@@ -15,6 +15,7 @@ pub const MAX_EXPOSURE: f32 = 100.0;
 /// the plugin itself so that it owns its parameter struct.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PluginConfig {
+    /// The plugin's registered name (`phong`, `envlight`, `ppm`, ...).
     pub name: String,
     /// The parenthesised parameter list, e.g. `(max_depth: 3)`, if one was given.
     pub params: Option<String>,
@@ -23,6 +24,7 @@ pub struct PluginConfig {
 }
 
 impl PluginConfig {
+    /// The plugin `name` with no parameters (its defaults) and no position in a file.
     pub fn named(name: impl Into<String>) -> Self {
         PluginConfig { name: name.into(), params: None, origin: None }
     }
@@ -104,8 +106,11 @@ pub enum AccelKind {
 /// Cells of a uniform grid along x, y and z, or chosen from the primitive count and the scene bounds.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum GridResolution {
+    /// From the primitive count and the bounds (`lambda * cbrt(N)` cells along the longest axis), with nested grids
+    /// in crowded cells.
     #[default]
     Auto,
+    /// Exactly these cells along x, y and z, no nested grids.
     Fixed([u32; 3]),
 }
 
@@ -122,6 +127,7 @@ impl AccelKind {
         }
     }
 
+    /// The accelerator's `--accel` name (what [`AccelKind::parse`] reads back, the grid's resolution aside).
     pub fn name(&self) -> &'static str {
         match self {
             Self::Bvh => "bvh",
@@ -143,7 +149,9 @@ impl AccelKind {
 /// The resolved settings of one render.
 #[derive(Clone, Debug, PartialEq)]
 pub struct RenderSettings {
+    /// Image width in pixels.
     pub width: u32,
+    /// Image height in pixels.
     pub height: u32,
     /// Total samples per pixel (`None` = unlimited, only with a time budget).
     pub spp: Option<u32>,
@@ -162,13 +170,16 @@ pub struct RenderSettings {
     pub pattern: Option<PixelPattern>,
     /// Pixel reconstruction filter (by filter importance sampling).
     pub filter: PixelFilter,
-    /// After a uniform first pass, give each pixel samples in proportion to its estimated noise (per-pixel
-    /// integrators; see `integrator::adaptive`).
+    /// After a uniform first pass, give each pixel samples by its estimated noise (in proportion to its square
+    /// root; per-pixel integrators; see `integrator::adaptive`).
     pub adaptive: bool,
+    /// Seed of every random number of the render (the same seed and settings give the same image).
     pub seed: u64,
     /// Stop after the pass that crosses this many seconds.
     pub time_budget: Option<f64>,
+    /// The rendering method and its parameters.
     pub integrator: PluginConfig,
+    /// The accelerator built over the bounded primitives.
     pub accel: AccelKind,
     /// PNG exposure in stops.
     pub exposure: f32,
@@ -268,6 +279,8 @@ impl RenderSettings {
         }
     }
 
+    /// Check the settings against each other and against Prism's limits: image size, sample and pass counts, the
+    /// pilot, the time budget, the filter, the exposure and the shard. Errors say which value is wrong.
     pub fn validate(&self) -> Result<()> {
         if self.width == 0 || self.height == 0 {
             return Err(PrismError::invalid(format!("image size {}x{} is empty", self.width, self.height)));
@@ -354,9 +367,9 @@ pub const MAX_DEFAULT_PASSES: u32 = 16;
 /// render in `shards` shards by passes gets at least as many passes as shards (where the samples allow), so
 /// every shard has work. Each pass costs every pixel a fixed set-up: 16 passes of 1 sample made a 16-spp Cornell
 /// box render 15% slower than one pass, 16 passes of 4 samples a 64-spp one 4-5% slower than 4 passes; at 48 spp
-/// each pass beyond the first cost about 0.85% (twenty-eighth session), so passes hold at least 32 samples (an
-/// adaptive 64-spp render in 2 passes instead of 4: 2% faster). Time budgets without a sample count keep their
-/// small passes (`RenderSettings::pass_spp`).
+/// each pass beyond the first costs about 0.85%, so passes hold at least 32 samples (an adaptive 64-spp render in 2
+/// passes instead of 4: 2% faster; see `docs/decisions/0015-passes-of-32-samples.md`). Time budgets without a
+/// sample count keep their small passes (`RenderSettings::pass_spp`).
 pub fn default_pass_layout(spp: u32, adaptive: bool, shards: u32) -> (u32, Option<u32>) {
     let spp = spp.max(1);
     // `n` samples in passes of at least MIN_PASS_SPP, at most `most` of them, but `want` passes where `n` allows.
@@ -371,20 +384,33 @@ pub fn default_pass_layout(spp: u32, adaptive: bool, shards: u32) -> (u32, Optio
 /// Command-line overrides of the scene's settings (`None` = keep the scene's).
 #[derive(Clone, Debug, Default)]
 pub struct Overrides {
+    /// Image `(width, height)` in pixels (`--size`).
     pub size: Option<(u32, u32)>,
+    /// Total samples per pixel (`--spp`).
     pub spp: Option<u32>,
+    /// Number of progressive passes (`--passes`).
     pub passes: Option<u32>,
+    /// The sampler (`--sampler`).
     pub sampler: Option<SamplerKind>,
+    /// An explicit pixel sample pattern (`--pattern`).
     pub pattern: Option<PixelPattern>,
+    /// The pixel filter (`--filter`).
     pub filter: Option<PixelFilter>,
+    /// Adaptive sampling on or off (`--adaptive`).
     pub adaptive: Option<bool>,
+    /// The render's seed (`--seed`).
     pub seed: Option<u64>,
+    /// Stop after the pass that crosses this many seconds (`--time`).
     pub time_budget: Option<f64>,
     /// No sample limit unless `spp` is given (set with a time budget on the command line).
     pub spp_unlimited: bool,
+    /// The integrator spec, `name` or `name(params)` (`--integrator`), parsed by [`PluginConfig::from_spec`].
     pub integrator: Option<String>,
+    /// The accelerator (`--accel`, with `--grid` for a fixed grid resolution).
     pub accel: Option<AccelKind>,
+    /// PNG exposure in stops (`--exposure`).
     pub exposure: Option<f32>,
+    /// Render shard `(k, n)` only (`--shard K/N`).
     pub shard: Option<(u32, u32)>,
     /// The camera to render from, by name, in files that hold several (glTF).
     pub camera: Option<String>,

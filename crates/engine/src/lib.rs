@@ -32,8 +32,11 @@ use hecs::World;
 use prism_core::error::Result;
 use prism_core::integrator::IntegratorFactory;
 
+/// The application: the scene's entities, the shared resources, the schedule of systems and the plugins added.
 pub struct App {
+    /// The scene's entities and their components.
     pub world: World,
+    /// Settings, tables, the render scene, the integrator, the film and progress.
     pub resources: Resources,
     schedule: Schedule,
     plugins: Vec<String>,
@@ -68,6 +71,7 @@ impl App {
         self
     }
 
+    /// The names of the plugins added, in the order they were added.
     pub fn plugin_names(&self) -> &[String] {
         &self.plugins
     }
@@ -89,6 +93,7 @@ impl App {
         self
     }
 
+    /// The systems registered so far, stage by stage.
     pub fn schedule(&self) -> &Schedule {
         &self.schedule
     }

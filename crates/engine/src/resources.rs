@@ -24,7 +24,14 @@ pub enum SceneSource {
     /// A scene file (`.ron`, `.obj`), loaded by extension.
     File(PathBuf),
     /// RON text; `name` is used in error messages and relative paths resolve against `base_dir`.
-    RonText { text: String, name: PathBuf, base_dir: PathBuf },
+    RonText {
+        /// The scene, in RON.
+        text: String,
+        /// What to call it in error messages.
+        name: PathBuf,
+        /// Directory relative paths in the text resolve against.
+        base_dir: PathBuf,
+    },
 }
 
 /// Progress of the progressive render.
@@ -36,6 +43,7 @@ pub struct Progress {
     pub spp_done: u64,
     /// Of those, the samples a resumed film brought (not rendered by this process).
     pub spp_resumed: u64,
+    /// When the first pass of this process started (`None` before it).
     pub started: Option<Instant>,
     /// Wall time spent in the Render stage.
     pub elapsed: Duration,
@@ -65,24 +73,34 @@ impl Default for Progress {
     }
 }
 
+/// The typed data systems share, plus one slot per type for plugins' own state.
 #[derive(Default)]
 pub struct Resources {
+    /// Where the Load stage reads the scene from.
     pub source: SceneSource,
+    /// Command-line values that replace the scene's settings.
     pub overrides: Overrides,
+    /// The render's settings, resolved in Load.
     pub settings: RenderSettings,
+    /// Background and ambient radiance of the scene.
     pub globals: SceneGlobals,
+    /// The scene's material table (entities' `MaterialId`s index it).
     pub materials: Vec<Material>,
     /// Textures the materials refer to (images shared through `Arc`).
     pub textures: prism_core::texture::TextureSet,
+    /// The meshes entities' `Shape::Mesh` handles refer to.
     pub meshes: MeshStore,
     /// The flattened scene integrators see (built in BuildAccel, lights added in Prepare).
     pub scene: Option<Scene>,
+    /// The integrators plugins registered, by name.
     pub integrators: IntegratorRegistry,
     /// The integrator chosen for this render (instantiated in Prepare).
     pub integrator: Option<Box<dyn Integrator>>,
+    /// The image being rendered (made in Prepare, or resumed from a film file).
     pub film: Option<Film>,
     /// The last pass, between Render and Accumulate.
     pub pass_output: Option<PassOutput>,
+    /// Passes and samples done, timings, and whether the render is finished.
     pub progress: Progress,
     /// Image files written by Output (and by checkpoints); format by extension (`.png`, `.exr`).
     pub outputs: Vec<PathBuf>,
@@ -109,10 +127,12 @@ impl Resources {
         self.plugin_state.insert(TypeId::of::<T>(), Box::new(value));
     }
 
+    /// The plugin state of type `T`, if one was inserted.
     pub fn get<T: Any + Send + Sync>(&self) -> Option<&T> {
         self.plugin_state.get(&TypeId::of::<T>()).and_then(|b| b.downcast_ref())
     }
 
+    /// The plugin state of type `T`, mutably, if one was inserted.
     pub fn get_mut<T: Any + Send + Sync>(&mut self) -> Option<&mut T> {
         self.plugin_state.get_mut(&TypeId::of::<T>()).and_then(|b| b.downcast_mut())
     }

@@ -24,6 +24,7 @@ pub enum Stage {
 }
 
 impl Stage {
+    /// Every stage, in execution order.
     pub const ALL: [Stage; 7] = [
         Stage::Load,
         Stage::Propagate,
@@ -43,22 +44,26 @@ type SystemFn = Box<dyn FnMut(&mut World, &mut Resources) -> Result<()> + Send>;
 
 /// A named system: a function over the world and the resources.
 pub struct System {
+    /// The system's name (listed by [`Schedule::system_names`]).
     pub name: &'static str,
     run: SystemFn,
 }
 
 impl System {
+    /// The system `run` under `name`.
     pub fn new(name: &'static str, run: impl FnMut(&mut World, &mut Resources) -> Result<()> + Send + 'static) -> Self {
         System { name, run: Box::new(run) }
     }
 }
 
+/// The systems of every stage, each stage's in the order they were added.
 #[derive(Default)]
 pub struct Schedule {
     stages: [Vec<System>; 7],
 }
 
 impl Schedule {
+    /// Append `system` to `stage`.
     pub fn add(&mut self, stage: Stage, system: System) {
         self.stages[stage.index()].push(system);
     }
@@ -68,6 +73,7 @@ impl Schedule {
         self.stages[stage.index()].iter().map(|s| s.name).collect()
     }
 
+    /// Run `stage`'s systems once, in order; the first error stops the stage and is returned.
     pub fn run_stage(&mut self, stage: Stage, world: &mut World, res: &mut Resources) -> Result<()> {
         for system in &mut self.stages[stage.index()] {
             (system.run)(world, res)?;

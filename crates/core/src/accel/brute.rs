@@ -5,11 +5,13 @@ use super::{AccelStats, Accelerator};
 use crate::geometry::{Ray, WatertightRay};
 use crate::primitives::{Hit, Primitives};
 
+/// `--accel brute`: no structure, every bounded primitive tested by every ray, in id order.
 pub struct BruteForce {
     count: u32,
 }
 
 impl BruteForce {
+    /// Over the bounded primitives of `prims` (planes are the scene's to test); nothing is built.
     pub fn build(prims: &Primitives) -> Self {
         BruteForce { count: prims.num_bounded() }
     }

@@ -13,6 +13,7 @@ use glam::{UVec2, Vec3A};
 use obvhs::{BvhBuildParams, aabb::Aabb, cwbvh::CwBvh, ray::RayHit};
 use std::time::Duration;
 
+/// `--accel cwbvh`: obvhs's compressed wide BVH and its traversal, with the primitives in leaf order.
 pub struct BvhAccel {
     bvh: CwBvh,
     /// Vertices of the triangle in each slot (zero for analytic shapes' slots).
@@ -39,6 +40,8 @@ pub(super) fn padded_prim_aabbs(prims: &Primitives) -> Vec<Aabb> {
 }
 
 impl BvhAccel {
+    /// Build over every bounded primitive of `prims` by PLOC, or top-down binned SAH where many primitives share
+    /// a Morton cell; an empty tree when there are none.
     pub fn build(prims: &Primitives) -> Self {
         let aabbs = padded_prim_aabbs(prims);
         let bvh = if aabbs.is_empty() {

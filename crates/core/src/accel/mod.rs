@@ -44,7 +44,9 @@ use std::time::{Duration, Instant};
 /// Size and build cost of an accelerator.
 #[derive(Clone, Debug, Default)]
 pub struct AccelStats {
+    /// The accelerator's `--accel` name (`bvh`, `cwbvh`, `kdtree`, `grid`, `brute`).
     pub kind: &'static str,
+    /// Wall-clock time of the build (zero for brute force, which builds nothing).
     pub build_time: Duration,
     /// Bytes of the acceleration structure itself (nodes, index lists, reordered copies), not the primitives.
     pub memory_bytes: usize,
@@ -56,7 +58,9 @@ pub struct AccelStats {
 
 /// The interface every accelerator implements.
 pub trait Accelerator: Send + Sync {
+    /// The closest hit of a bounded primitive along `ray` in `(0, tmax)`; `None` when there is none.
     fn intersect(&self, prims: &Primitives, ray: &Ray) -> Option<Hit>;
+    /// Whether any bounded primitive meets `ray` in `(0, tmax)` (stops at the first hit found, not the closest).
     fn occluded(&self, prims: &Primitives, ray: &Ray) -> bool;
     /// `intersect`, adding the nodes/cells visited and primitives tested to `work` (slower; for heat maps).
     fn intersect_counted(&self, prims: &Primitives, ray: &Ray, work: &mut TraversalWork) -> Option<Hit>;
@@ -68,14 +72,21 @@ pub trait Accelerator: Send + Sync {
             *o = self.intersect(prims, r);
         }
     }
+    /// Size, build time and a description of the structure.
     fn stats(&self) -> AccelStats;
 }
 
+/// The scene's accelerator, one of the kinds of [`AccelKind`], dispatched by `match`.
 pub enum Accel {
+    /// `--accel bvh` (the default): the 8-wide BVH.
     Bvh(WideBvh),
+    /// `--accel cwbvh`: obvhs's compressed wide BVH.
     CwBvh(BvhAccel),
+    /// `--accel kdtree`: the SAH kd-tree.
     KdTree(KdTree),
+    /// `--accel grid`: the uniform grid.
     Grid(UniformGrid),
+    /// `--accel brute`: every primitive tested.
     Brute(BruteForce),
 }
 
@@ -170,6 +181,7 @@ impl Accel {
         dispatch!(self, a => a.intersect_counted(prims, ray, work))
     }
 
+    /// The accelerator's size, build time and description ([`Accelerator::stats`]).
     pub fn stats(&self) -> AccelStats {
         dispatch!(self, a => a.stats())
     }

@@ -26,7 +26,9 @@ impl WorkCounter for NoCount {
 /// Work done for one ray: nodes (BVH nodes tested, kd-tree nodes visited, grid cells visited) and primitive tests.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct TraversalWork {
+    /// Nodes tested (BVH), nodes visited (kd-tree) or cells visited (grid).
     pub nodes: u32,
+    /// Primitive intersection tests.
     pub prims: u32,
 }
 

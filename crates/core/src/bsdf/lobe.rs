@@ -28,12 +28,19 @@ use std::f32::consts::FRAC_1_PI;
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum ConductorFresnel {
     /// Exact, from the complex index of refraction `eta + i k` per RGB channel.
-    Complex { eta: Vec3, k: Vec3 },
+    Complex {
+        /// Real part of the conductor's index relative to the outside, per RGB channel.
+        eta: Vec3,
+        /// Imaginary part (extinction coefficient), per RGB channel.
+        k: Vec3,
+    },
     /// Schlick's approximation from the reflectance at normal incidence.
     Schlick(Vec3),
 }
 
 impl ConductorFresnel {
+    /// The reflectance per RGB channel at `cos_i`, the cosine between the incident direction and the (micro)surface
+    /// normal.
     #[inline]
     pub fn eval(&self, cos_i: f32) -> Vec3 {
         match self {
@@ -46,21 +53,90 @@ impl ConductorFresnel {
 /// One lobe of a BSDF, with its parameters already resolved at the hit (textures looked up, blend weights applied).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Lobe {
-    Diffuse { albedo: Vec3 },
-    Phong { ks: Vec3, exponent: f32 },
-    Blinn6837 { ks: Vec3, exponent: f32 },
-    Mirror { r: Vec3 },
-    Dielectric { r: Vec3, t: Vec3, eta: f32 },
-    CourseRefraction { t: Vec3, eta: f32 },
-    Conductor { alpha: f32, fresnel: ConductorFresnel, scale: Vec3 },
-    RoughDielectric { alpha: f32, r: Vec3, t: Vec3, eta: f32 },
-    Plastic { alpha: f32, eta: f32, diffuse: Vec3, specular: Vec3, fdr_int: f32 },
+    /// Lambertian reflection, `albedo / pi`.
+    Diffuse {
+        /// Reflectance per RGB channel (the hemispherical albedo, normally in `[0, 1]`).
+        albedo: Vec3,
+    },
+    /// Energy-normalised Phong lobe about the mirror direction of `wo`.
+    Phong {
+        /// Specular reflectance per RGB channel.
+        ks: Vec3,
+        /// Phong exponent (0 or more; larger is sharper).
+        exponent: f32,
+    },
+    /// The 6.837 course's unnormalised Blinn-Phong term, `ks (n.h)^e / (pi wi.z)`.
+    Blinn6837 {
+        /// Specular colour per RGB channel.
+        ks: Vec3,
+        /// Blinn-Phong exponent `e` on `n.h` (0 or more).
+        exponent: f32,
+    },
+    /// Ideal mirror reflection without Fresnel (delta).
+    Mirror {
+        /// Reflectance per RGB channel.
+        r: Vec3,
+    },
+    /// Smooth Fresnel dielectric: reflection and refraction (delta).
+    Dielectric {
+        /// Filter on the reflected part, per RGB channel.
+        r: Vec3,
+        /// Filter on the refracted part, per RGB channel.
+        t: Vec3,
+        /// Relative index of refraction, transmitted side over `wo`'s side.
+        eta: f32,
+    },
+    /// The 6.837 course's refraction: no Fresnel, no reflected part, nothing under total internal reflection
+    /// (delta).
+    CourseRefraction {
+        /// Filter on the refracted radiance, per RGB channel.
+        t: Vec3,
+        /// Relative index of refraction, transmitted side over `wo`'s side.
+        eta: f32,
+    },
+    /// GGX conductor (delta when `alpha` is 0).
+    Conductor {
+        /// GGX width, 0 (smooth) or in `[1e-3, 1]`.
+        alpha: f32,
+        /// Fresnel reflectance: exact from a complex index, or Schlick's approximation.
+        fresnel: ConductorFresnel,
+        /// Factor on the reflectance per RGB channel (Mitsuba's `specular_reflectance`), blend weight included.
+        scale: Vec3,
+    },
+    /// GGX rough dielectric: microfacet reflection and transmission (Walter et al. 2007).
+    RoughDielectric {
+        /// GGX width, in `[1e-3, 1]` (alpha 0 is [`Lobe::Dielectric`]).
+        alpha: f32,
+        /// Filter on the reflected part, per RGB channel.
+        r: Vec3,
+        /// Filter on the transmitted part, per RGB channel.
+        t: Vec3,
+        /// Relative index of refraction, transmitted side over `wo`'s side.
+        eta: f32,
+    },
+    /// A diffuse base under a GGX dielectric coat (Mitsuba's rough plastic).
+    Plastic {
+        /// GGX width of the coat, in `[1e-3, 1]`.
+        alpha: f32,
+        /// The coat's index of refraction (over the outside).
+        eta: f32,
+        /// The base's albedo per RGB channel.
+        diffuse: Vec3,
+        /// Filter on the coat's specular reflection, per RGB channel.
+        specular: Vec3,
+        /// The coat's internal diffuse Fresnel reflectance (from `eta`), the share of light the base sends back
+        /// that the coat reflects down again.
+        fdr_int: f32,
+    },
 }
 
 /// A direction drawn from one lobe; `weight` is the throughput `f |cos| / p` of delta lobes (unused otherwise).
 #[derive(Clone, Copy, Debug)]
 pub struct LobeSample {
+    /// The drawn direction, unit length, in the local shading frame.
     pub wi: Vec3A,
+    /// `f |cos| / p` per RGB channel for delta lobes; zero (and unused) for the others, whose caller evaluates
+    /// value and density itself.
     pub weight: Vec3,
 }
 

@@ -42,10 +42,14 @@ pub enum TransportMode {
 /// A sampled direction and its throughput weight `f |cos| / pdf`.
 #[derive(Clone, Copy, Debug)]
 pub struct BsdfSample {
+    /// The sampled direction, world space, unit length, pointing away from the surface.
     pub wi: Vec3A,
+    /// Throughput `f |cos| / pdf` per RGB channel (lobe selection included; for delta samples the lobe's weight
+    /// over its selection probability).
     pub weight: Vec3,
     /// Mixture pdf of the smooth lobes in solid angle (0 for delta samples).
     pub pdf: f32,
+    /// True when a delta lobe produced the sample: `pdf` is 0 and multiple importance sampling does not apply.
     pub delta: bool,
     /// The relative index of refraction crossed (transmitted side over `wo`'s) when the sample refracted through
     /// a dielectric, 1 otherwise: radiance weights carry `1/eta^2`, which Russian roulette undoes (as Mitsuba's
@@ -57,11 +61,16 @@ pub struct BsdfSample {
 /// for the 6.837 `-weight` rule).
 #[derive(Clone, Copy, Debug)]
 pub struct DeltaBranch {
+    /// The branch's direction, world space, unit length.
     pub wi: Vec3A,
+    /// Throughput along it per RGB channel (Fresnel and `1/eta^2` included).
     pub weight: Vec3,
+    /// The lobe's colour (reflectance or transmittance filter), without Fresnel.
     pub filter: Vec3,
 }
 
+/// The scattering function at one shading point: up to [`MAX_LOBES`] lobes in a shading frame facing `wo`, their
+/// selection probabilities, and the Phong model's ambient reflectance.
 #[derive(Clone, Copy, Debug)]
 pub struct Bsdf {
     /// Shading frame, normal facing `wo` (possibly perturbed by a normal or bump map).

@@ -9,8 +9,11 @@ use std::path::PathBuf;
 /// A face's centre direction and the directions of its image-right and image-down axes.
 #[derive(Clone, Copy, Debug)]
 pub struct FaceFrame {
+    /// Unit direction through the face's centre (the face's axis).
     pub center: Vec3A,
+    /// Unit direction of increasing image x (columns) on the face.
     pub right: Vec3A,
+    /// Unit direction of increasing image y (rows, downwards) on the face.
     pub down: Vec3A,
 }
 

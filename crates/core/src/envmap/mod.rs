@@ -27,12 +27,16 @@ use std::path::{Path, PathBuf};
 /// One rectangular image of linear RGB radiance (a panorama or a cube face), row-major from the top-left.
 #[derive(Clone, Debug, PartialEq)]
 pub struct EnvImage {
+    /// Width in texels.
     pub width: u32,
+    /// Height in texels.
     pub height: u32,
+    /// `width * height` texels of linear RGB radiance, finite and non-negative once loaded.
     pub texels: Vec<Vec3>,
 }
 
 impl EnvImage {
+    /// The texel in column `x < width` and row `y < height`, counted from the top-left.
     #[inline]
     pub fn texel(&self, x: u32, y: u32) -> Vec3 {
         self.texels[(y * self.width + x) as usize]
@@ -69,13 +73,18 @@ pub enum EnvLayout {
 /// Layout of the file(s) a map is read from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Deserialize)]
 pub enum SourceLayout {
+    /// One 2:1 latitude–longitude panorama.
     Equirect,
+    /// One 3:4 image, the six faces in a vertical cross (see the module notes).
     Cross,
+    /// Six square images `px nx py ny pz nz`, in the three.js / OpenGL cube-map convention.
     Faces,
 }
 
+/// An environment map: linear RGB radiance for every direction of its env frame.
 #[derive(Clone, Debug, PartialEq)]
 pub struct EnvMap {
+    /// A panorama or a cube.
     pub layout: EnvLayout,
     /// One image (equirect) or six faces (cube).
     pub images: Vec<EnvImage>,
@@ -101,10 +110,12 @@ pub fn equirect_direction(uv: Vec2) -> Vec3A {
 }
 
 impl EnvMap {
+    /// A panorama map of `image` (2:1 expected, not checked).
     pub fn equirect(image: EnvImage) -> Self {
         EnvMap { layout: EnvLayout::Equirect, images: vec![image], clamped_texels: 0 }
     }
 
+    /// A cube map of six square `faces` of one size, in the order of [`CUBE_FACES`] (not checked).
     pub fn cube(faces: Vec<EnvImage>) -> Self {
         EnvMap { layout: EnvLayout::Cube, images: faces, clamped_texels: 0 }
     }

@@ -46,23 +46,36 @@ pub enum ShardAxis {
 /// What a film file says about its render.
 #[derive(Clone, Debug, PartialEq)]
 pub struct FilmHeader {
+    /// Image width in pixels.
     pub width: u32,
+    /// Image height in pixels.
     pub height: u32,
     /// Index of the next pass to render.
     pub passes_done: u32,
     /// Passes of the whole render (a film is complete when `passes_done >= passes`).
     pub passes: u32,
+    /// Samples per pixel of the passes this film holds (a pass shard's own passes only; the uniform rate, which
+    /// adaptive pixels exceed or fall short of).
     pub spp_done: u64,
+    /// `(k, n)`: the film is shard `k` (from 0) of `n`; `(0, 1)` for a whole render.
     pub shard: (u32, u32),
+    /// How the shards split the render.
     pub axis: ShardAxis,
+    /// Hash of the scene file and of every setting that changes the image: a film resumes or merges only with a
+    /// render of the same fingerprint.
     pub fingerprint: u64,
+    /// The integrator spec the film was rendered with, as given (at most 4096 bytes of UTF-8).
     pub integrator: String,
 }
 
 /// A film file's content.
 pub struct FilmFile {
+    /// The render's size, progress, shard and fingerprint.
     pub header: FilmHeader,
+    /// The committed sums, counts and non-finite sample count.
     pub film: Film,
+    /// The integrator's own state, opaque to the film (empty for integrators that keep none), at most
+    /// [`MAX_STATE`] bytes.
     pub state: Vec<u8>,
 }
 

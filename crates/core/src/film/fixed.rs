@@ -31,11 +31,13 @@ pub fn from_fixed(f: i128) -> f64 {
 pub struct FixedRgb(pub [i128; 3]);
 
 impl FixedRgb {
+    /// `(r, g, b)` in fixed point, each by [`to_fixed`] (non-finite channels become 0).
     #[inline]
     pub fn from_rgb(r: f64, g: f64, b: f64) -> Self {
         FixedRgb([to_fixed(r), to_fixed(g), to_fixed(b)])
     }
 
+    /// Add `o` channel by channel, saturating at the `i128` range instead of wrapping.
     #[inline]
     pub fn add(&mut self, o: FixedRgb) {
         for c in 0..3 {
@@ -43,6 +45,7 @@ impl FixedRgb {
         }
     }
 
+    /// The sums back as `f64` per channel ([`from_fixed`]).
     #[inline]
     pub fn to_dvec3(self) -> glam::DVec3 {
         glam::DVec3::new(from_fixed(self.0[0]), from_fixed(self.0[1]), from_fixed(self.0[2]))

@@ -18,9 +18,13 @@ pub use tiles::{PassOutput, TILE_SIZE, Tile, TileSamples, tiles};
 use glam::Vec3;
 use rayon::prelude::*;
 
+/// Per-pixel radiance sums (fixed point) and sample counts of the committed passes, plus the tiles of a pass cut
+/// short.
 #[derive(Clone, Debug)]
 pub struct Film {
+    /// Image width in pixels.
     pub width: u32,
+    /// Image height in pixels.
     pub height: u32,
     sum: Vec<FixedRgb>,
     count: Vec<u64>,
@@ -33,6 +37,7 @@ pub struct Film {
 }
 
 impl Film {
+    /// An empty film of `width` x `height` pixels: every sum and count 0, no row shard.
     pub fn new(width: u32, height: u32) -> Self {
         let n = width as usize * height as usize;
         Film {

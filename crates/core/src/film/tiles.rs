@@ -20,9 +20,13 @@ pub fn tiles(width: u32, height: u32) -> Vec<Tile> {
 /// A rectangle of pixels.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Tile {
+    /// Column of the tile's left pixels.
     pub x0: u32,
+    /// Row of the tile's top pixels.
     pub y0: u32,
+    /// Width in pixels (at most [`TILE_SIZE`] for the tiles of [`tiles`]).
     pub w: u32,
+    /// Height in pixels (at most [`TILE_SIZE`] for the tiles of [`tiles`]).
     pub h: u32,
 }
 
@@ -30,8 +34,11 @@ pub struct Tile {
 /// same count everywhere unless the render is adaptive).
 #[derive(Clone, Debug)]
 pub struct TileSamples {
+    /// The pixels covered.
     pub tile: Tile,
+    /// Samples taken per pixel, row-major within the tile (`w * h` entries).
     pub counts: Vec<u32>,
+    /// Linear RGB radiance summed over each pixel's samples, row-major within the tile (`w * h` entries).
     pub sums: Vec<Vec3>,
     /// Samples that came out NaN or infinite and were replaced by 0 (reported in the render summary).
     pub nonfinite: u32,
@@ -57,5 +64,11 @@ pub enum PassOutput {
     Samples(Vec<TileSamples>),
     /// A complete image estimate that replaces the film's content (for methods whose estimate is not a mean of
     /// independent samples, such as progressive photon mapping). `complete` is false if the pass was cut short.
-    Estimate { image: Vec<Vec3>, complete: bool },
+    Estimate {
+        /// Linear RGB radiance per pixel of the whole image, row-major (`width * height` entries).
+        image: Vec<Vec3>,
+        /// False when the pass was cut short: `image` is then the last complete pass's estimate, and the pass does
+        /// not count as done.
+        complete: bool,
+    },
 }

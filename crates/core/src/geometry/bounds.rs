@@ -2,9 +2,12 @@
 
 use glam::{Affine3A, Vec3A};
 
+/// An axis-aligned box, `min` to `max` inclusive; empty when `min > max` on any axis.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Bounds {
+    /// The corner of smallest coordinates.
     pub min: Vec3A,
+    /// The corner of largest coordinates.
     pub max: Vec3A,
 }
 
@@ -15,38 +18,46 @@ impl Default for Bounds {
 }
 
 impl Bounds {
+    /// The empty box (`min` = +inf, `max` = -inf): the identity of [`Bounds::union`] and [`Bounds::with_point`].
     pub const EMPTY: Bounds = Bounds { min: Vec3A::splat(f32::INFINITY), max: Vec3A::splat(f32::NEG_INFINITY) };
 
+    /// The box from `min` to `max` as given (not reordered).
     #[inline]
     pub fn new(min: Vec3A, max: Vec3A) -> Self {
         Bounds { min, max }
     }
 
+    /// The smallest box holding `points` ([`Bounds::EMPTY`] for none).
     #[inline]
     pub fn from_points(points: &[Vec3A]) -> Self {
         points.iter().fold(Self::EMPTY, |b, &p| b.with_point(p))
     }
 
+    /// The smallest box holding this one and `p`.
     #[inline]
     pub fn with_point(self, p: Vec3A) -> Self {
         Bounds { min: self.min.min(p), max: self.max.max(p) }
     }
 
+    /// The smallest box holding both boxes.
     #[inline]
     pub fn union(self, o: Bounds) -> Self {
         Bounds { min: self.min.min(o.min), max: self.max.max(o.max) }
     }
 
+    /// True when `min > max` on some axis (NaN corners count as not empty).
     #[inline]
     pub fn is_empty(&self) -> bool {
         self.min.x > self.max.x || self.min.y > self.max.y || self.min.z > self.max.z
     }
 
+    /// `max - min`: the box's extent per axis (negative for an empty box).
     #[inline]
     pub fn diagonal(&self) -> Vec3A {
         self.max - self.min
     }
 
+    /// The midpoint of `min` and `max`.
     #[inline]
     pub fn center(&self) -> Vec3A {
         0.5 * (self.min + self.max)

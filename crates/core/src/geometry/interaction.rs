@@ -8,15 +8,20 @@ use glam::{Vec2, Vec3A};
 /// 2; for curved surfaces their two parameters (`ShapeHit` in `crate::shapes`); unused otherwise.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Hit {
+    /// Ray parameter of the hit, in `(0, tmax)` (a distance for unit directions).
     pub t: f32,
+    /// Primitive id (see `crate::primitives` for the id ranges).
     pub prim: u32,
+    /// Barycentric weight of vertex 1 (triangles), or the shape's first surface parameter.
     pub b1: f32,
+    /// Barycentric weight of vertex 2 (triangles), or the shape's second surface parameter.
     pub b2: f32,
 }
 
 /// Everything an integrator needs to know about a surface point.
 #[derive(Clone, Copy, Debug)]
 pub struct SurfaceHit {
+    /// The hit point, world space.
     pub p: Vec3A,
     /// Conservative absolute floating-point error bound of `p`, per coordinate (for robust ray spawning).
     pub p_err: Vec3A,
@@ -29,10 +34,15 @@ pub struct SurfaceHit {
     /// Partial derivatives of the position with respect to u and v (world space, not normalised): from the
     /// triangle's uvs, the sphere's and the plane's parameterisations. Texturing and normal mapping use them.
     pub dpdu: Vec3A,
+    /// Partial derivative of the position with respect to v (see `dpdu`).
     pub dpdv: Vec3A,
+    /// Ray parameter of the hit.
     pub t: f32,
+    /// Id of the primitive hit (see `crate::primitives` for the id ranges).
     pub prim: u32,
+    /// Index into the scene's material table.
     pub material: u32,
+    /// Index of the area light the primitive belongs to, or [`crate::primitives::NO_LIGHT`].
     pub light: u32,
 }
 

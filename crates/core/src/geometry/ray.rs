@@ -4,10 +4,14 @@
 
 use glam::Vec3A;
 
+/// A ray `origin + t dir`, `t` in `(0, tmax)`, with hints for the accelerators.
 #[derive(Clone, Copy, Debug)]
 pub struct Ray {
+    /// Start point, world space (already offset off the surface for spawned rays).
     pub origin: Vec3A,
+    /// Direction; unit for camera and scattered rays, any length otherwise (not zero).
     pub dir: Vec3A,
+    /// End of the ray's parameter interval (exclusive; `f32::INFINITY` for an unbounded ray).
     pub tmax: f32,
     /// The triangle the ray leaves (rays spawned from a surface), or [`NO_PRIM`]. A ray leaving a plane cannot
     /// meet it again, so an accelerator may skip that triangle's test (the offset origin already keeps the exact
@@ -25,11 +29,13 @@ pub struct Ray {
 pub const NO_PRIM: u32 = u32::MAX;
 
 impl Ray {
+    /// An unbounded ray (`tmax` infinite), leaving no primitive, not coherent.
     #[inline]
     pub fn new(origin: Vec3A, dir: Vec3A) -> Self {
         Ray { origin, dir, tmax: f32::INFINITY, leaves: NO_PRIM, coherent: false }
     }
 
+    /// A ray ending at `tmax`, leaving no primitive, not coherent.
     #[inline]
     pub fn with_tmax(origin: Vec3A, dir: Vec3A, tmax: f32) -> Self {
         Ray { origin, dir, tmax, leaves: NO_PRIM, coherent: false }
@@ -47,6 +53,7 @@ impl Ray {
         Ray { coherent: true, ..self }
     }
 
+    /// The point `origin + t dir`.
     #[inline]
     pub fn at(&self, t: f32) -> Vec3A {
         self.origin + self.dir * t

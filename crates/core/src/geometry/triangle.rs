@@ -20,12 +20,16 @@ use glam::{Vec3A, Vec3Swizzles, Vec4};
 /// A triangle with its vertices' coordinates gathered per axis: lane i of `xs` is vertex i's x.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct TriSoa {
+    /// The three vertices' x coordinates.
     pub xs: Vec3A,
+    /// The three vertices' y coordinates.
     pub ys: Vec3A,
+    /// The three vertices' z coordinates.
     pub zs: Vec3A,
 }
 
 impl TriSoa {
+    /// The triangle of vertices `v[0]`, `v[1]`, `v[2]` (in that order, which sets its winding).
     #[inline]
     pub fn new(v: &[Vec3A; 3]) -> Self {
         TriSoa {
@@ -78,13 +82,18 @@ impl Axis {
 /// Hit distance and barycentric weights of the three vertices.
 #[derive(Clone, Copy, Debug)]
 pub struct TriangleHit {
+    /// Ray parameter of the hit.
     pub t: f32,
+    /// Barycentric weight of vertex 0.
     pub b0: f32,
+    /// Barycentric weight of vertex 1.
     pub b1: f32,
+    /// Barycentric weight of vertex 2 (the three sum to 1 up to rounding).
     pub b2: f32,
 }
 
 impl WatertightRay {
+    /// The shear-and-permute map of `ray` (its direction must not be zero).
     #[inline]
     pub fn new(ray: &Ray) -> Self {
         let d = ray.dir.to_array();

@@ -24,6 +24,7 @@ use glam::{Vec3A, Vec4};
 /// Unused lanes hold zeros; callers mask them out.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct TriPacket {
+    /// `v[vertex][axis]`, one triangle per lane.
     pub v: [[Vec4; 3]; 3],
 }
 

@@ -39,6 +39,7 @@ pub struct PassInfo<'a> {
     pub spp: u32,
     /// Samples per pixel rendered in earlier passes (index of this pass's first sample).
     pub first_sample: u64,
+    /// The render's settings (sampler, pattern, filter, seed, adaptive sampling).
     pub settings: &'a RenderSettings,
 }
 
@@ -86,6 +87,7 @@ pub trait Integrator: Send + Sync {
 
 /// An estimator of the radiance arriving along a camera ray.
 pub trait PixelIntegrator: Send + Sync {
+    /// One-time set-up after the scene and lights are built (Prepare stage), as [`Integrator::prepare`].
     fn prepare(&mut self, _scene: &Scene, _settings: &RenderSettings) -> Result<()> {
         Ok(())
     }

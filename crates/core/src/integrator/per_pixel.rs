@@ -42,7 +42,7 @@ const BATCH_WARMUP: u32 = 256;
 /// it: a point computed ahead for a path that ended before asking for it is wasted work (short paths: an open scene
 /// whose rays escape), one not computed ahead is computed alone when asked for. The numbers are the same either way.
 /// `textured` renders 6% faster than with all thirteen dimensions, the Cornell box (which keeps five to nine) about 1%
-/// (0.25 and 0.75 measured within 1% of it; performance log, twenty-first session).
+/// (0.25 and 0.75 measure within 1% of it; see `docs/decisions/0012-sobol-batch-of-sixteen.md`).
 const BATCH_REACH: f32 = 0.5;
 
 // A chunk's samples are the Sobol batch's lanes.

@@ -6,22 +6,27 @@ use crate::error::{PrismError, Result};
 use crate::settings::PluginConfig;
 use std::collections::BTreeMap;
 
+/// Makes an integrator from its config (name and parameter text); errors are bad parameters.
 pub type IntegratorFactory = Box<dyn Fn(&PluginConfig) -> Result<Box<dyn Integrator>> + Send + Sync>;
 
+/// The integrators a render can name, each by its factory.
 #[derive(Default)]
 pub struct IntegratorRegistry {
     factories: BTreeMap<String, IntegratorFactory>,
 }
 
 impl IntegratorRegistry {
+    /// Make `name` available, replacing a factory registered under it before.
     pub fn register(&mut self, name: &str, factory: IntegratorFactory) {
         self.factories.insert(name.to_string(), factory);
     }
 
+    /// The registered names, sorted.
     pub fn names(&self) -> Vec<&str> {
         self.factories.keys().map(String::as_str).collect()
     }
 
+    /// Whether an integrator is registered as `name`.
     pub fn contains(&self, name: &str) -> bool {
         self.factories.contains_key(name)
     }

@@ -10,10 +10,9 @@
 //!
 //! Parameters (`envlight`): `rr_depth`, the first path segment after which roulette is played, and `rr_threshold`.
 //! Mitsuba's rule is `threshold = 1` with survival capped at 0.95 from `rr_depth = 5` on. Prism's defaults are
-//! `rr_depth = 1` and `threshold = 0.5`; the README's "Russian roulette" and the performance log (nineteenth
-//! session) give the measurements behind them. So that every path ends even in a lossless scene with unlimited
-//! depth (mirrors, clear glass, white walls), survival is capped at [`LONG_PATH_SURVIVAL`] from segment
-//! [`LONG_PATH_SEGMENTS`] on.
+//! `rr_depth = 1` and `threshold = 0.5`; `docs/decisions/0016-russian-roulette-threshold.md` gives the measurements
+//! behind them. So that every path ends even in a lossless scene with unlimited depth (mirrors, clear glass, white
+//! walls), survival is capped at [`LONG_PATH_SURVIVAL`] from segment [`LONG_PATH_SEGMENTS`] on.
 //!
 //! [`mitsuba_survival`] is Mitsuba's rule itself, which `ppm`'s eye paths through glossy surfaces keep.
 

@@ -16,17 +16,22 @@ use std::path::{Path, PathBuf};
 /// A linear RGB image, row-major from the top-left pixel.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Image {
+    /// Width in pixels.
     pub width: u32,
+    /// Height in pixels.
     pub height: u32,
+    /// `width * height` linear RGB values, row-major from the top-left.
     pub pixels: Vec<Vec3>,
 }
 
 impl Image {
+    /// An image of `pixels`, which must hold `width * height` values (checked in debug builds only).
     pub fn new(width: u32, height: u32, pixels: Vec<Vec3>) -> Self {
         debug_assert_eq!(pixels.len(), width as usize * height as usize);
         Image { width, height, pixels }
     }
 
+    /// The pixel in column `x < width` and row `y < height`, counted from the top-left.
     pub fn get(&self, x: u32, y: u32) -> Vec3 {
         self.pixels[(y * self.width + x) as usize]
     }
@@ -145,11 +150,14 @@ pub fn linear_to_srgb(v: f32) -> f32 {
     if v <= 0.0031308 { 12.92 * v } else { 1.055 * v.powf(1.0 / 2.4) - 0.055 }
 }
 
+/// The inverse of [`linear_to_srgb`]: the linear value of an sRGB-encoded value in `[0, 1]`.
 #[inline]
 pub fn srgb_to_linear(v: f32) -> f32 {
     if v <= 0.04045 { v / 12.92 } else { ((v + 0.055) / 1.055).powf(2.4) }
 }
 
+/// Write `img` as an 8-bit sRGB PNG (through a temporary file): each channel scaled by `2^exposure`, clamped to
+/// `[0, 1]` (non-finite values to 0), sRGB-encoded and rounded.
 pub fn write_png(path: &Path, img: &Image, exposure: f32) -> Result<()> {
     let scale = 2f32.powf(exposure);
     let mut buf = Vec::with_capacity(img.pixels.len() * 3);

@@ -23,6 +23,7 @@ use crate::texture::ImageMap;
 use glam::{Vec2, Vec3, Vec3A};
 use std::f32::consts::PI;
 
+/// The surface of an area light, with what its point sampling needs.
 #[derive(Clone, Debug)]
 pub enum AreaShape {
     /// Triangles `first..first+count` of the primitives; `cdf[k]` = area of the first k+1 triangles / total;
@@ -31,18 +32,32 @@ pub enum AreaShape {
     /// corner, edges and the point error bound: points are drawn as `o + u e1 + v e2`, which keeps the sampler's
     /// 2D stratification intact (no triangle choice, no square-root warp) and costs less.
     Triangles {
+        /// Index of the set's first triangle in `Primitives::tris` (and its primitive id).
         first: u32,
+        /// Number of triangles.
         count: u32,
+        /// Cumulative area fractions, one per triangle, the last exactly 1.
         cdf: Vec<f32>,
+        /// Unit geometric normal of each triangle.
         normals: Vec<Vec3A>,
+        /// Total world-space area.
         area: f32,
+        /// The set as one parallelogram, when it is one (see above).
         parallelogram: Option<Parallelogram>,
     },
     /// Sphere `index` of the primitives.
-    Sphere { index: u32 },
+    Sphere {
+        /// Index into `Primitives::spheres` (a sphere, or an ellipsoid through its transform).
+        index: u32,
+    },
     /// A curved analytic primitive `prim` (revolution, patch): a point of its parameter square drawn by
     /// `sampler`, density by area `p(u, v) / |dp/du x dp/dv|`.
-    Curved { prim: u32, sampler: ParamAreaSampler },
+    Curved {
+        /// The shape's primitive id (`num_tris()` plus its analytic index).
+        prim: u32,
+        /// Draws parameter points by approximate area.
+        sampler: ParamAreaSampler,
+    },
 }
 
 /// A parallelogram light: points `o + u e1 + v e2` for `(u, v)` in the unit square; `err` bounds the rounding
@@ -75,10 +90,14 @@ impl Parallelogram {
     }
 }
 
+/// An emissive surface: radiance `radiance` (times the emission texture) leaving its front side, or both sides.
 #[derive(Clone, Debug)]
 pub struct AreaLight {
+    /// Emitted radiance per RGB channel, linear (the texture's factor where there is one).
     pub radiance: Vec3,
+    /// Emit from both sides; otherwise only towards the side the geometric normal points to.
     pub two_sided: bool,
+    /// The emitting surface.
     pub shape: AreaShape,
     /// Emission texture: the radiance at uv is `radiance * texture(uv)`.
     pub texture: Option<ImageMap>,
@@ -91,6 +110,9 @@ fn tri_area(t: &[Vec3A; 3]) -> f32 {
 }
 
 impl AreaLight {
+    /// The light over the primitives `ep` one entity produced: its sphere, its curved shape, or its triangles (two
+    /// that form a parallelogram, untextured, are sampled as one). A texture's area-weighted mean is integrated
+    /// here, once: it scales [`AreaLight::power`].
     pub fn new(
         prims: &Primitives,
         ep: &EntityPrims,
@@ -422,6 +444,8 @@ impl AreaLight {
         self.sample_at_point(p, self.sample_point(prims, u))
     }
 
+    /// Solid-angle density, seen from `p`, with which [`AreaLight::sample`] draws the point `hit` of this light
+    /// (0 when the light's surface is seen edge-on there).
     pub fn pdf(&self, prims: &Primitives, p: Vec3A, hit: &SurfaceHit) -> f32 {
         let d = hit.p - p;
         let dist2 = d.length_squared();

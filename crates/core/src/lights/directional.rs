@@ -9,14 +9,18 @@ use crate::sampling::warp;
 use glam::{Vec2, Vec3, Vec3A};
 use std::f32::consts::PI;
 
+/// A distant light resolved to world space.
 #[derive(Clone, Debug)]
 pub struct DirectionalLight {
     /// Unit direction towards the light (opposite to the direction the light travels).
     pub to_light: Vec3A,
+    /// Irradiance per RGB channel on a surface facing the light, W/m^2.
     pub irradiance: Vec3,
 }
 
 impl DirectionalLight {
+    /// The light as seen from `p`: a delta in direction `to_light`, at infinite distance (the sample's point lies
+    /// 1e30 away along it), carrying the irradiance.
     #[inline]
     pub fn sample_li(&self, p: Vec3A) -> LightSample {
         LightSample {
@@ -25,6 +29,7 @@ impl DirectionalLight {
         }
     }
 
+    /// Power entering the scene's bounding sphere, `E pi R^2`.
     pub fn power(&self, sphere: &SceneSphere) -> Vec3 {
         self.irradiance * (PI * sphere.radius * sphere.radius)
     }

@@ -13,13 +13,18 @@ use crate::sampling::warp;
 use glam::{Vec2, Vec3A};
 use serde::Deserialize;
 
+/// The direction sampler an integrator asks for (`envlight`'s `env_sampling`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum EnvStrategy {
+    /// The map's quad-tree: directions by the map's radiance times solid angle (the default).
     #[default]
     Quadtree,
+    /// The piecewise-constant 2D distribution over the map's texels (pbrt-v3's `Distribution2D`).
     Piecewise,
+    /// Uniform directions on the sphere.
     Uniform,
+    /// Cosine-weighted directions about the shading normal, whatever the map.
     Cosine,
 }
 
@@ -33,12 +38,15 @@ enum Sampler {
     Black,
 }
 
+/// The environment light's direction sampler, built for one [`EnvStrategy`].
 #[derive(Clone, Debug)]
 pub struct EnvSampling {
     sampler: Sampler,
 }
 
 impl EnvSampling {
+    /// The sampler of `strategy` for `env`: uniform for a constant environment (unless `Cosine`, which never
+    /// reads the map), none at all for a map with no radiance (every sample `None`, every pdf 0).
     pub fn new(env: &EnvironmentLight, strategy: EnvStrategy) -> Self {
         let sampler = match (&env.map, strategy) {
             (_, EnvStrategy::Cosine) => Sampler::Cosine,

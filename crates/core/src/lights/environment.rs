@@ -15,19 +15,24 @@ use glam::{Affine3A, Mat3A, Vec2, Vec3, Vec3A};
 use std::f32::consts::PI;
 use std::sync::Arc;
 
+/// The environment light resolved to world space.
 #[derive(Clone, Debug)]
 pub struct EnvironmentLight {
     /// Radiance scale (the constant radiance when there is no map).
     pub radiance: Vec3,
+    /// The map, in its own (env) frame; `None`: constant radiance.
     pub map: Option<Arc<EnvMap>>,
     /// Maps world directions into the map's frame (the inverse of the entity's rotation).
     pub env_from_world: Mat3A,
+    /// Maps the map's directions into the world (the linear part of the entity's transform).
     pub world_from_env: Mat3A,
     /// `integral L(w) dw` over the sphere (RGB).
     pub integral: Vec3,
 }
 
 impl EnvironmentLight {
+    /// The light of `radiance` times `map` (constant without one), oriented by the linear part of
+    /// `world_from_local`, with its radiance integrated over the sphere.
     pub fn new(radiance: Vec3, map: Option<Arc<EnvMap>>, world_from_local: &Affine3A) -> Self {
         let world_from_env = world_from_local.matrix3;
         let integral = match &map {

@@ -9,8 +9,11 @@ use crate::primitives::{Primitives, SurfaceHit};
 use glam::{Vec2, Vec3A};
 use std::sync::Arc;
 
+/// An integrator's light sampling: the choice of a light, the environment's direction sampler, and the shadow
+/// rays proven clear.
 #[derive(Clone, Debug)]
 pub struct LightSampler {
+    /// Which light slot a sample goes to, by power.
     pub choice: PowerLightSampler,
     /// The environment's direction sampler (present when the scene has an environment light).
     pub env: Option<EnvSampling>,
@@ -19,6 +22,8 @@ pub struct LightSampler {
 }
 
 impl LightSampler {
+    /// Light sampling over `lights`, the environment's directions drawn by `strategy`; the shadow proofs are
+    /// built here (where the scene and its lights allow them).
     pub fn new(lights: &LightSet, prims: &Primitives, strategy: EnvStrategy) -> Self {
         LightSampler {
             choice: PowerLightSampler::new(lights, prims),

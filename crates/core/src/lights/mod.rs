@@ -62,6 +62,7 @@ pub struct LightSample {
     pub li: Vec3,
     /// Solid-angle pdf; 1 for delta lights.
     pub pdf: f32,
+    /// True for point, spot and directional lights: no multiple importance sampling with BSDF sampling.
     pub delta: bool,
 }
 
@@ -108,7 +109,9 @@ impl LeSample {
 /// The sphere bounding the scene's bounded primitives: distant lights emit from a disk of its radius.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SceneSphere {
+    /// Centre, world space.
     pub center: Vec3A,
+    /// Radius, world units (positive).
     pub radius: f32,
 }
 
@@ -139,9 +142,13 @@ impl SceneSphere {
 /// A light other than the environment.
 #[derive(Clone, Debug)]
 pub enum LightSource {
+    /// An emissive surface.
     Area(AreaLight),
+    /// A point light.
     Point(PointLight),
+    /// A spot light.
     Spot(SpotLight),
+    /// A distant light.
     Directional(DirectionalLight),
 }
 
@@ -149,8 +156,11 @@ pub enum LightSource {
 /// sphere distant lights emit from.
 #[derive(Clone, Debug, Default)]
 pub struct LightSet {
+    /// Every light but the environment, area lights first; the index is the light's slot.
     pub lights: Vec<LightSource>,
+    /// The environment light (at most one), slot `lights.len()`.
     pub environment: Option<EnvironmentLight>,
+    /// The sphere bounding the scene's bounded primitives.
     pub sphere: SceneSphere,
 }
 
@@ -158,6 +168,7 @@ pub struct LightSet {
 /// and for an area light the primitives of its shape.
 #[derive(Clone, Copy, Debug)]
 pub struct PlacedLight<'a> {
+    /// The light as the scene describes it.
     pub light: &'a Light,
     /// The composed transform from the light's frame to world space (area lights are already in world space).
     pub world_from_local: glam::Affine3A,
@@ -248,6 +259,7 @@ impl LightSet {
         self.lights.len()
     }
 
+    /// True when there is no light other than the environment.
     pub fn is_empty(&self) -> bool {
         self.lights.is_empty()
     }

@@ -44,6 +44,8 @@ impl Distribution1D {
     }
 }
 
+/// Piecewise-constant sampling of an environment map's texels by luminance times solid angle (see the module
+/// notes).
 #[derive(Clone, Debug)]
 pub struct Piecewise2D {
     /// Per image: marginal over rows and one conditional per row.
@@ -53,6 +55,7 @@ pub struct Piecewise2D {
 }
 
 impl Piecewise2D {
+    /// The distribution over `map`'s texels; `None` when the map is black.
     pub fn build(map: &EnvMap) -> Option<Piecewise2D> {
         let mut images = vec![];
         let mut totals = vec![];
@@ -80,6 +83,8 @@ impl Piecewise2D {
         (image_choice.integral > 0.0).then_some(Piecewise2D { images, image_choice })
     }
 
+    /// A unit direction in the map's frame and its solid-angle pdf, from `u` in the unit square; `None` where the
+    /// pdf comes out zero or not finite (a direction on a singular row of the panorama).
     pub fn sample(&self, map: &EnvMap, u: Vec2) -> Option<(Vec3A, f32)> {
         let n = self.images.len();
         let (uk, k) = self.image_choice.sample(u.x);
@@ -94,6 +99,7 @@ impl Piecewise2D {
         (pdf > 0.0 && pdf.is_finite()).then(|| (map.direction(k, uv), pdf))
     }
 
+    /// Solid-angle pdf with which [`Piecewise2D::sample`] draws the unit direction `dir` (map's frame).
     pub fn pdf(&self, map: &EnvMap, dir: Vec3A) -> f32 {
         let (k, uv) = map.coords(dir);
         let n = self.images.len();

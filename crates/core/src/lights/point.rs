@@ -10,10 +10,14 @@ use crate::sampling::warp;
 use glam::{Vec2, Vec3, Vec3A};
 use std::f32::consts::PI;
 
+/// A point light resolved to world space.
 #[derive(Clone, Debug)]
 pub struct PointLight {
+    /// Position, world space.
     pub position: Vec3A,
+    /// Radiant intensity per RGB channel, W/sr.
     pub intensity: Vec3,
+    /// `(a0, a1, a2)` of the fall-off `a0 + a1 d + a2 d^2` next-event estimation divides by; `(0, 0, 1)` physically.
     pub attenuation: Vec3,
 }
 

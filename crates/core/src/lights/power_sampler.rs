@@ -7,6 +7,7 @@ use crate::lights::LightSet;
 use crate::math::luminance;
 use crate::primitives::Primitives;
 
+/// The choice of a light slot in proportion to the luminance of its power.
 #[derive(Clone, Debug)]
 pub struct PowerLightSampler {
     cdf: Vec<f32>,
@@ -16,6 +17,7 @@ pub struct PowerLightSampler {
 }
 
 impl PowerLightSampler {
+    /// The distribution over the slots of `lights` (the environment, if any, last).
     pub fn new(lights: &LightSet, prims: &Primitives) -> Self {
         let slots = lights.len() + lights.environment.is_some() as usize;
         let mut power: Vec<f64> = (0..slots).map(|i| luminance(lights.power(i, prims)).max(0.0) as f64).collect();
@@ -45,6 +47,7 @@ impl PowerLightSampler {
         self.prob.len()
     }
 
+    /// True when there is no slot: no light and no environment.
     pub fn is_empty(&self) -> bool {
         self.prob.is_empty()
     }
@@ -65,6 +68,7 @@ impl PowerLightSampler {
         (i, p, r)
     }
 
+    /// The probability of choosing `slot` (`slot < len()`).
     #[inline]
     pub fn prob(&self, slot: usize) -> f32 {
         self.prob[slot]

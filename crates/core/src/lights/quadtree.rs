@@ -39,6 +39,8 @@ struct Node {
     children: u32,
 }
 
+/// The quad-trees of an environment map's images, each leaf a texel rectangle of near-uniform weight (see the
+/// module notes).
 #[derive(Clone, Debug)]
 pub struct QuadTree {
     nodes: Vec<Node>,
@@ -52,7 +54,9 @@ pub struct QuadTree {
 /// A sampled direction (env frame) with its solid-angle pdf.
 #[derive(Clone, Copy, Debug)]
 pub struct EnvSample {
+    /// Unit direction towards the environment, in the map's frame.
     pub dir: Vec3A,
+    /// Solid-angle density of `dir`.
     pub pdf: f32,
 }
 
@@ -128,10 +132,12 @@ impl QuadTree {
         (sum, lo, hi)
     }
 
+    /// Nodes kept, over every image's tree.
     pub fn node_count(&self) -> usize {
         self.nodes.len()
     }
 
+    /// Leaves of non-zero weight (those sampling can reach).
     pub fn leaf_count(&self) -> usize {
         self.nodes.iter().filter(|n| n.children == 0 && n.weight > 0.0).count()
     }

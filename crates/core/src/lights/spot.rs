@@ -47,8 +47,10 @@ impl SpotProfile {
     }
 }
 
+/// A spot light resolved to world space, its angles as cosines.
 #[derive(Clone, Debug)]
 pub struct SpotLight {
+    /// Position, world space.
     pub position: Vec3A,
     /// Frame whose normal is the cone's axis (the direction the light points to).
     pub frame: Frame,
@@ -58,6 +60,7 @@ pub struct SpotLight {
     pub cos_start: f32,
     /// Cosine of the cone's half-angle (no light outside).
     pub cos_end: f32,
+    /// The shape of the fall-off between `cos_start` and `cos_end`.
     pub profile: SpotProfile,
 }
 
@@ -103,6 +106,7 @@ impl SpotLight {
         (f > 0.0).then(|| LightSample::delta(self.position, wi, dist, self.intensity * (f / dist2)))
     }
 
+    /// Total emitted power, `2 pi I ((1 - cos_start) + m (cos_start - cos_end))` (`m`: [`SpotProfile::mean`]).
     pub fn power(&self) -> Vec3 {
         self.intensity * (2.0 * PI * ((1.0 - self.cos_start) + self.profile.mean() * (self.cos_start - self.cos_end)))
     }

@@ -64,6 +64,7 @@ pub struct PhongParams {
     pub transparent: ColorParam,
     /// Index of refraction of the inside (the side opposite the geometric normal).
     pub ior: f32,
+    /// Physically based terms, or the 6.837 course's.
     pub shading: Shading,
 }
 
@@ -87,60 +88,91 @@ impl Default for PhongParams {
 #[derive(Clone, Debug, PartialEq)]
 pub enum ConductorSpec {
     /// Complex index of refraction per RGB channel.
-    Complex { eta: Vec3, k: Vec3 },
+    Complex {
+        /// Real part of the index, per RGB channel.
+        eta: Vec3,
+        /// Imaginary part (extinction coefficient), per RGB channel.
+        k: Vec3,
+    },
     /// Reflectance at normal incidence (Schlick's approximation), may be textured.
     Schlick(ColorParam),
 }
 
+/// What a material is made of, with its parameters.
 #[derive(Clone, Debug, PartialEq)]
 pub enum MaterialKind {
+    /// The Phong family (Lambert, Phong, mirror, glass, the 6.837 course's material).
     Phong(PhongParams),
     /// GGX conductor; `scale` multiplies the reflectance (Mitsuba's `specular_reflectance`).
     Conductor {
+        /// GGX width: 0 is a smooth metal, otherwise clamped to `[1e-3, 1]` at each hit.
         alpha: ScalarParam,
+        /// Fresnel reflectance: a complex index, or a reflectance at normal incidence for Schlick's approximation.
         fresnel: ConductorSpec,
+        /// Factor on the reflectance per RGB channel.
         scale: ColorParam,
     },
     /// GGX dielectric with index `ior` inside; reflection and transmission filters.
     Dielectric {
+        /// GGX width: 0 is smooth glass, otherwise clamped to `[1e-3, 1]` at each hit.
         alpha: ScalarParam,
+        /// Index of refraction of the inside (the side opposite the geometric normal) over the outside.
         ior: f32,
+        /// Filter on the reflected part, per RGB channel.
         reflectance: ColorParam,
+        /// Filter on the transmitted part, per RGB channel.
         transmittance: ColorParam,
     },
     /// Diffuse base under a GGX dielectric coat of index `ior`; `fdr_int` is the coat's internal diffuse
     /// Fresnel reflectance (computed from `ior`).
     Plastic {
+        /// GGX width of the coat, clamped to `[1e-3, 1]` at each hit (the coat is never perfectly smooth).
         alpha: ScalarParam,
+        /// Index of refraction of the coat over the outside.
         ior: f32,
+        /// The base's albedo per RGB channel.
         diffuse: ColorParam,
+        /// Filter on the coat's specular reflection, per RGB channel.
         specular: ColorParam,
+        /// The coat's internal diffuse Fresnel reflectance, in `[0, 1)`.
         fdr_int: f32,
     },
     /// `(1 - weight) a + weight b`, materials by index.
     Blend {
+        /// Index of the material at weight 0.
         a: u32,
+        /// Index of the material at weight 1.
         b: u32,
+        /// The blend weight, clamped to `[0, 1]` at each hit (NaN counts as 0).
         weight: ScalarParam,
     },
     /// Material `base` with a tangent-space normal map (texture index): `n = normalize(2 c - 1)` with x, y scaled
     /// by `strength` (and y negated by `flip_green`).
     NormalMap {
+        /// Index of the wrapped material.
         base: u32,
+        /// Index of the normal map in the scene's texture table (an image texture).
         texture: u32,
+        /// Factor on the map normal's tangent-plane components (1: as stored).
         strength: f32,
+        /// Negate the map's green (y) component before use, for maps authored with the other y convention.
         flip_green: bool,
     },
     /// Material `base` with a height texture: the surface displaced by `height` along its normal.
     Bump {
+        /// Index of the wrapped material.
         base: u32,
+        /// Displacement along the normal, world units (its uv derivatives tilt the shading normal).
         height: ScalarParam,
     },
 }
 
+/// A named material of the scene's table.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Material {
+    /// The material's name in the scene (used in error messages and by name look-ups).
     pub name: String,
+    /// Its kind and parameters.
     pub kind: MaterialKind,
     /// Shade both faces (the shading frame is flipped towards the viewer). One-sided materials reflect nothing
     /// from behind (dielectrics always see both sides).
@@ -200,6 +232,7 @@ impl Material {
         Material::phong(name, PhongParams::default())
     }
 
+    /// A two-sided Lambertian material of `albedo` (linear RGB reflectance).
     pub fn lambert(name: &str, albedo: Vec3) -> Self {
         Material::phong(name, PhongParams { diffuse: ColorParam::Const(albedo), ..PhongParams::default() })
     }

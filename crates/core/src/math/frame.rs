@@ -3,10 +3,14 @@
 
 use glam::Vec3A;
 
+/// A right-handed orthonormal basis `(s, t, n)`: local x, y and z axes in world space.
 #[derive(Clone, Copy, Debug)]
 pub struct Frame {
+    /// The first tangent (local x), unit.
     pub s: Vec3A,
+    /// The second tangent (local y), unit, `n x s`.
     pub t: Vec3A,
+    /// The normal (local z), unit.
     pub n: Vec3A,
 }
 

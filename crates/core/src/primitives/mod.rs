@@ -33,15 +33,19 @@ pub const NO_LIGHT: u32 = u32::MAX;
 pub struct TriShading {
     /// Vertex normals in world space (unit), if the mesh has them.
     pub normals: Option<[Vec3A; 3]>,
+    /// Vertex texture coordinates (the mesh's, or `(0,0), (1,0), (0,1)` when it has none).
     pub uvs: [Vec2; 3],
+    /// Index into the scene's material table.
     pub material: u32,
+    /// Index of the area light the triangle belongs to, or [`NO_LIGHT`].
     pub light: u32,
     /// Index into `Primitives::tri_tangents`, or [`NO_TANGENTS`] (only normal-mapped meshes have them).
     pub tangents: u32,
     /// dp/du and dp/dv (constant over the triangle), computed once when the triangle is built.
     pub dpduv: [Vec3; 2],
     /// The unit geometric normal `normalize((p1 - p0) x (p2 - p0))`, computed once when the triangle is built (a
-    /// hit record needs it first, and its square root and division sat on every path vertex's critical path).
+    /// hit record needs it first; computed there, its square root and division would sit on every path vertex's
+    /// critical path).
     pub ng: Vec3A,
 }
 
@@ -54,25 +58,35 @@ pub fn triangle_normal(v: &[Vec3A; 3]) -> Vec3A {
 /// Marks a triangle without vertex tangents.
 pub const NO_TANGENTS: u32 = u32::MAX;
 
+/// An infinite plane `normal . p = offset`, world space (never in an accelerator).
 #[derive(Clone, Copy, Debug)]
 pub struct PlaneGeom {
+    /// Unit normal, the plane's front side.
     pub normal: Vec3A,
+    /// Signed distance of the plane from the origin along `normal`.
     pub offset: f32,
+    /// Index into the scene's material table.
     pub material: u32,
 }
 
+/// Every primitive of the scene in world space, by id (triangles, then analytic shapes, then planes).
 #[derive(Clone, Debug, Default)]
 pub struct Primitives {
+    /// Each triangle's exact world-space vertices; the triangle's id is its index.
     pub tris: Vec<[Vec3A; 3]>,
+    /// Each triangle's shading data, by the same index as `tris`.
     pub tri_shading: Vec<TriShading>,
     /// Per-vertex MikkTSpace tangents (xyz, bitangent sign in w) of the triangles of normal-mapped meshes.
     pub tri_tangents: Vec<[glam::Vec4; 3]>,
     /// Spheres and ellipsoids (`ShapeRef::Sphere` indexes here).
     pub spheres: Vec<SphereGeom>,
+    /// Surfaces of revolution (`ShapeRef::Revolution` indexes here).
     pub revolutions: Vec<Revolution>,
+    /// Bézier patches (`ShapeRef::Patch` indexes here).
     pub patches: Vec<BezierPatch>,
     /// The analytic primitive with id `T + k` is `analytic[k]`.
     pub analytic: Vec<ShapeRef>,
+    /// Infinite planes; plane `k` has id `num_bounded() + k`.
     pub planes: Vec<PlaneGeom>,
     /// Bounds of the bounded primitives (triangles and analytic shapes).
     pub bounds: Bounds,
@@ -81,13 +95,16 @@ pub struct Primitives {
     /// Alpha masks of the scene (see [`crate::alpha`]) and, when there is any, one mask index per triangle
     /// ([`crate::alpha::NO_ALPHA`] for opaque ones); empty in scenes without masks.
     pub alpha_masks: Vec<crate::alpha::AlphaMask>,
+    /// Each triangle's index into `alpha_masks`, or [`crate::alpha::NO_ALPHA`]; empty without masks.
     pub tri_alpha: Vec<u32>,
 }
 
 /// The primitive range one entity produced (used to attach area lights).
 #[derive(Clone, Copy, Debug)]
 pub struct EntityPrims {
+    /// Id of the entity's first triangle.
     pub first_tri: u32,
+    /// Number of triangles it produced (consecutive from `first_tri`).
     pub tri_count: u32,
     /// Index in `Primitives::spheres`, for a sphere or ellipsoid.
     pub sphere: Option<u32>,
@@ -123,6 +140,7 @@ pub fn interpolation_error(b: [f32; 3], p: &[Vec3A; 3]) -> Vec3A {
 }
 
 impl Primitives {
+    /// Number of triangles `T`: ids below it are triangles.
     #[inline]
     pub fn num_tris(&self) -> u32 {
         self.tris.len() as u32
@@ -134,6 +152,7 @@ impl Primitives {
         (self.tris.len() + self.analytic.len()) as u32
     }
 
+    /// Every primitive: bounded ones and planes.
     pub fn num_total(&self) -> u32 {
         self.num_bounded() + self.planes.len() as u32
     }

@@ -14,18 +14,25 @@
 use glam::Vec2;
 use std::f32::consts::TAU;
 
+/// The pixel reconstruction filter camera samples are drawn from (see the module notes).
 #[derive(Clone, Copy, Debug, PartialEq, serde::Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields)]
 pub enum PixelFilter {
+    /// Weight 1 within the square of half-width `radius` around the pixel centre.
     Box {
+        /// Half-width in pixels (default 0.5: the pixel itself).
         #[serde(default = "half")]
         radius: f32,
     },
+    /// Radial `max(0, 1 - d / radius)`.
     Tent {
+        /// Support radius in pixels (default 1).
         #[serde(default = "one")]
         radius: f32,
     },
+    /// Radial `exp(-d^2 / (2 sigma^2))`, cut off at `d = 2 sigma`.
     Gaussian {
+        /// Standard deviation in pixels (default 0.5).
         #[serde(default = "half")]
         sigma: f32,
     },
@@ -48,6 +55,7 @@ impl Default for PixelFilter {
 pub const MAX_FILTER_RADIUS: f32 = 64.0;
 
 impl PixelFilter {
+    /// The filter's name in scenes and on the command line: `box`, `tent` or `gaussian`.
     pub fn name(&self) -> &'static str {
         match self {
             PixelFilter::Box { .. } => "box",

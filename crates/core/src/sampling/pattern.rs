@@ -12,13 +12,18 @@
 use super::{Rng, hash_u64, permute, stratified_2d};
 use glam::Vec2;
 
+/// How the independent sampler places a pixel's camera samples (see the module notes).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default, serde::Deserialize, serde::Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum PixelPattern {
+    /// Independent uniform positions.
     Random,
+    /// One jittered sample per stratum of an n x n grid, strata in random order (the default).
     #[default]
     Stratified,
+    /// The 6.837 course's regular grid of cell centres, no randomness.
     Uniform,
+    /// The 4-sample rotated grid, each group of four shifted at random.
     Rgss,
 }
 
@@ -26,6 +31,8 @@ const RGSS: [Vec2; 4] =
     [Vec2::new(0.125, 0.625), Vec2::new(0.375, 0.125), Vec2::new(0.625, 0.875), Vec2::new(0.875, 0.375)];
 
 impl PixelPattern {
+    /// The pattern of a name: `random` (or `independent`), `stratified` (or `jitter`), `uniform`, `rgss`; `None`
+    /// for any other.
     pub fn parse(s: &str) -> Option<Self> {
         match s {
             "random" | "independent" => Some(Self::Random),
@@ -36,6 +43,7 @@ impl PixelPattern {
         }
     }
 
+    /// The pattern's canonical name (what [`PixelPattern::parse`] reads back).
     pub fn name(&self) -> &'static str {
         match self {
             Self::Random => "random",

@@ -36,6 +36,7 @@ impl Rng {
         Rng::new(a, b)
     }
 
+    /// The next 32 uniformly distributed bits (one PCG32 step).
     #[inline]
     pub fn next_u32(&mut self) -> u32 {
         let old = self.state;
@@ -51,6 +52,7 @@ impl Rng {
         (self.next_u32() >> 8) as f32 * (1.0 / 16_777_216.0)
     }
 
+    /// Two successive [`Rng::next_f32`] values, as `(x, y)`: uniform in the unit square.
     #[inline]
     pub fn next_2d(&mut self) -> glam::Vec2 {
         glam::Vec2::new(self.next_f32(), self.next_f32())

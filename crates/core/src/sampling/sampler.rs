@@ -4,9 +4,9 @@
 //! at every path vertex the light choice, the light point, the BSDF lobe, the BSDF direction and Russian roulette —
 //! and the sampler answers:
 //! - `independent`: every number from the pixel's PCG32 stream (plain Monte Carlo, as Mitsuba's `independent`);
-//! - `stratified`: Prism's original scheme: pixel positions jittered on an n x n grid over the pixel's samples, the
-//!   first two integrator 2D dimensions (the first vertex's light and BSDF samples) from Owen-scrambled Sobol points,
-//!   everything else independent;
+//! - `stratified`: pixel positions jittered on an n x n grid over the pixel's samples, the first two integrator 2D
+//!   dimensions (the first vertex's light and BSDF samples) from Owen-scrambled Sobol points, everything else
+//!   independent;
 //! - `sobol` (the default): **every** dimension from Owen-scrambled Sobol points (Burley 2020, "Practical Hash-based
 //!   Owen Scrambling"): 2D requests use the first two Sobol dimensions, a (0,2)-sequence, 1D requests the first
 //!   (van der Corput); each dimension (pair) gets its own index shuffle and its own nested uniform scramble, hashed
@@ -33,13 +33,18 @@ use multiversion::multiversion;
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default, serde::Deserialize, serde::Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum SamplerKind {
+    /// Every number from the pixel's PCG32 stream.
     Independent,
+    /// Jittered pixel positions, Sobol points for the first vertex's light and BSDF samples, the rest independent.
     Stratified,
+    /// Owen-scrambled Sobol points for every dimension (the default).
     #[default]
     Sobol,
 }
 
 impl SamplerKind {
+    /// The sampler of a name: `independent` (or `random`), `stratified`, `sobol` (or `ldsampler`,
+    /// `low_discrepancy`); `None` for any other.
     pub fn parse(s: &str) -> Option<Self> {
         match s {
             "independent" | "random" => Some(Self::Independent),
@@ -49,6 +54,7 @@ impl SamplerKind {
         }
     }
 
+    /// The sampler's canonical name (what [`SamplerKind::parse`] reads back).
     pub fn name(&self) -> &'static str {
         match self {
             Self::Independent => "independent",
@@ -57,6 +63,7 @@ impl SamplerKind {
         }
     }
 
+    /// The canonical names, as error messages list them.
     pub const NAMES: &'static str = "independent, stratified or sobol";
 }
 
@@ -142,8 +149,8 @@ fn dim_key(key: u32, dim: u32) -> u32 {
 
 /// The Sobol point at dimensions `dim, dim + 1` for the index whose reversal is `index_rev`, its scramble keys
 /// (from [`dim_key`] of the pixel's `key` and the dimension) cached in `keys_2d`. Compiled twice and chosen at run
-/// time, so that its bit reversals use GFNI where the CPU has it (see `sobol.rs`): on AMD Zen 5 the Cornell box
-/// renders 3-4% faster, the same image bit for bit.
+/// time, so that its bit reversals use GFNI where the CPU has it (see `sobol.rs`): fewer instructions per point, the
+/// same points bit for bit (see `docs/decisions/0011-sobol-gfni-bit-reversal.md`).
 #[multiversion(targets("x86_64+gfni"))]
 fn sobol_2d_cached(keys_2d: &mut [[u32; 4]; KEY_SLOTS], index_rev: u32, dim: u32, key: u32) -> Vec2 {
     sobol_owen_2d_keyed(index_rev, cached_keys_2d(keys_2d, dim, key))
@@ -251,6 +258,7 @@ impl Sampler {
         self.requests_2d += 1;
     }
 
+    /// Which sampler this is.
     pub fn kind(&self) -> SamplerKind {
         self.kind
     }

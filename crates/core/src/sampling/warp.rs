@@ -16,6 +16,7 @@ pub fn uniform_sphere(u: Vec2) -> Vec3A {
     Vec3A::new(r * phi.cos(), r * phi.sin(), z)
 }
 
+/// Pdf of [`uniform_sphere`]: `1 / (4 pi)` for every direction.
 #[inline]
 pub fn uniform_sphere_pdf() -> f32 {
     INV_4PI
@@ -30,6 +31,7 @@ pub fn uniform_hemisphere(u: Vec2) -> Vec3A {
     Vec3A::new(r * phi.cos(), r * phi.sin(), z)
 }
 
+/// Pdf of [`uniform_hemisphere`] at the local direction `local`: `1 / (2 pi)` where `z >= 0`, 0 below.
 #[inline]
 pub fn uniform_hemisphere_pdf(local: Vec3A) -> f32 {
     if local.z >= 0.0 { INV_2PI } else { 0.0 }
@@ -86,6 +88,7 @@ pub fn cosine_hemisphere_lanes(u: &[[f32; 16]; 2], out: &mut [[f32; 16]; 3]) {
     }
 }
 
+/// Pdf of [`cosine_hemisphere`] at the unit local direction `local`: `cos / pi`, 0 below the surface.
 #[inline]
 pub fn cosine_hemisphere_pdf(local: Vec3A) -> f32 {
     local.z.max(0.0) * FRAC_1_PI
@@ -115,6 +118,8 @@ pub fn uniform_cone(u: Vec2, cos_max: f32) -> Vec3A {
     Vec3A::new(r * phi.cos(), r * phi.sin(), z)
 }
 
+/// Pdf of [`uniform_cone`] for directions inside the cone, `1 / (2 pi (1 - cos_max))` (the caller tests
+/// whether a direction is inside; infinite for `cos_max = 1`).
 #[inline]
 pub fn uniform_cone_pdf(cos_max: f32) -> f32 {
     1.0 / (2.0 * PI * (1.0 - cos_max))

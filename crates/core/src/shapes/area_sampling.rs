@@ -16,6 +16,8 @@ use glam::Vec2;
 /// Cells per parameter axis.
 pub const CELLS: usize = 32;
 
+/// Points of a parameter square drawn by approximate surface area, with their exact density (see the module
+/// notes).
 #[derive(Clone, Debug)]
 pub struct ParamAreaSampler {
     n: usize,

@@ -16,11 +16,14 @@ use glam::DVec3;
 /// The basis a curve's control points are given in.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum CurveKind {
+    /// Piecewise cubic Bézier: `3k + 1` points, `k` segments sharing their end points.
     Bezier,
+    /// Uniform cubic B-spline: `n >= 4` points, `n - 3` segments.
     BSpline,
 }
 
 impl CurveKind {
+    /// The basis's name in scene files: `bezier` or `bspline`.
     pub fn name(self) -> &'static str {
         match self {
             CurveKind::Bezier => "bezier",
@@ -32,6 +35,7 @@ impl CurveKind {
 /// A piecewise cubic curve as given (control points in its basis), with its Bézier segments.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Curve {
+    /// The basis `points` are given in.
     pub kind: CurveKind,
     /// Control points as given.
     pub points: Vec<DVec3>,

@@ -40,21 +40,28 @@ use glam::{Vec2, Vec3A};
 /// A hit on an analytic shape: the distance and the two surface parameters (unused by spheres).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ShapeHit {
+    /// Ray parameter of the hit.
     pub t: f32,
+    /// First surface parameter (patches: u in `[0, 1]`; revolutions: the profile parameter `s`).
     pub u: f32,
+    /// Second surface parameter (patches: v in `[0, 1]`; revolutions: the angle `theta`, radians).
     pub v: f32,
 }
 
 /// World-space surface data at a hit.
 #[derive(Clone, Copy, Debug)]
 pub struct ShapePoint {
+    /// The surface point, world space.
     pub p: Vec3A,
     /// Conservative absolute error bound of `p` per coordinate: how far the true surface may be.
     pub p_err: Vec3A,
     /// Unit geometric normal (also the shading normal: the surfaces are smooth).
     pub n: Vec3A,
+    /// Texture coordinates of the point.
     pub uv: Vec2,
+    /// Partial derivative of the position with respect to u, world space.
     pub dpdu: Vec3A,
+    /// Partial derivative of the position with respect to v, world space.
     pub dpdv: Vec3A,
 }
 
@@ -83,6 +90,7 @@ pub trait AnalyticShape {
     fn point_at_uv(&self, _uv: Vec2) -> Option<ShapePoint> {
         None
     }
+    /// Index into the scene's material table.
     fn material(&self) -> u32;
     /// Area light slot, or `NO_LIGHT`.
     fn light(&self) -> u32;
@@ -91,7 +99,10 @@ pub trait AnalyticShape {
 /// Which analytic shape a primitive id names: the kind and its index in that kind's array.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ShapeRef {
+    /// Index into `Primitives::spheres`.
     Sphere(u32),
+    /// Index into `Primitives::revolutions`.
     Revolution(u32),
+    /// Index into `Primitives::patches`.
     Patch(u32),
 }

@@ -66,6 +66,7 @@ pub struct NewtonTol {
     pub stop: f64,
     /// Accept the result as a root when `|F|` is below this.
     pub accept: f64,
+    /// Most Newton steps before giving up (`None` from [`solve`]).
     pub max_iter: u32,
 }
 

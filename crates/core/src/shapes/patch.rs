@@ -29,7 +29,9 @@ use glam::{DVec3, Vec2, Vec3A};
 
 /// Subdivide until control points are within this fraction of the patch size from the corners' bilinear patch.
 pub const FLATNESS: f64 = 2e-3;
+/// Fewest subdivision levels of the seeding quadtree (the root alone is never a leaf).
 pub const MIN_DEPTH: u32 = 1;
+/// Most subdivision levels of the seeding quadtree (up to `4^6` leaves), whatever the flatness.
 pub const MAX_DEPTH: u32 = 6;
 
 #[derive(Clone, Copy, Debug)]
@@ -112,7 +114,9 @@ pub struct BezierPatch {
     leaves: Vec<PatchLeaf>,
     bounds: Bounds,
     size: f64,
+    /// Index into the scene's material table.
     pub material: u32,
+    /// Area light slot, or [`crate::primitives::NO_LIGHT`].
     pub light: u32,
 }
 

@@ -28,9 +28,13 @@ pub const MAX_DEPTH: u32 = 10;
 /// The solid of revolution of `[r_lo, r_hi] x [y_lo, y_hi]` about the y axis.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Ring {
+    /// Inner radius (distance from the y axis), 0 or more.
     pub r_lo: f64,
+    /// Outer radius.
     pub r_hi: f64,
+    /// Lowest y.
     pub y_lo: f64,
+    /// Highest y.
     pub y_hi: f64,
 }
 
@@ -84,9 +88,13 @@ impl Ring {
 /// oriented bound (`strip.rs`; none for a piece straddling the axis).
 #[derive(Clone, Copy, Debug)]
 pub struct Leaf {
+    /// Global profile parameter where the piece starts.
     pub s0: f64,
+    /// Global profile parameter where it ends.
     pub s1: f64,
+    /// The piece's cubic Bézier control points, object space (z = 0).
     pub ctrl: [DVec3; 4],
+    /// Its revolved chord-aligned rectangle; `None` when the piece straddles the axis.
     pub strip: Option<Strip>,
 }
 
@@ -106,7 +114,9 @@ pub type Intervals = ([(f64, f64); 2], usize);
 /// the expanded form `a t^2 + 2 b t + c` loses everything to cancellation near the axis when the origin is far.
 #[derive(Clone, Copy, Debug)]
 pub struct RingRay {
+    /// Ray origin, object space.
     pub o: DVec3,
+    /// Ray direction, object space (any length).
     pub d: DVec3,
     a: f64,
     tc: f64,
@@ -114,6 +124,7 @@ pub struct RingRay {
 }
 
 impl RingRay {
+    /// The constants of the object-space ray `o + t d`.
     pub fn new(o: DVec3, d: DVec3) -> Self {
         let a = d.x * d.x + d.z * d.z;
         let tc = if a > 0.0 { -(o.x * d.x + o.z * d.z) / a } else { 0.0 };
@@ -198,6 +209,7 @@ impl RingRay {
 #[derive(Clone, Debug)]
 pub struct ProfileTree {
     nodes: Vec<Node>,
+    /// The flat pieces, in profile order.
     pub leaves: Vec<Leaf>,
 }
 

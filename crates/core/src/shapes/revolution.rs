@@ -47,7 +47,9 @@ pub struct Revolution {
     bounds: Bounds,
     /// Size of the profile (largest extent of its control points' box, and the radius).
     size: f64,
+    /// Index into the scene's material table.
     pub material: u32,
+    /// Area light slot, or [`crate::primitives::NO_LIGHT`].
     pub light: u32,
 }
 
@@ -125,6 +127,7 @@ impl Revolution {
         }
     }
 
+    /// The profile curve, object space (the xy-plane).
     pub fn profile(&self) -> &Curve {
         &self.profile
     }
@@ -134,6 +137,7 @@ impl Revolution {
         (self.tree.leaves.len(), self.tree.num_nodes())
     }
 
+    /// The transform from the profile's object space to world space.
     pub fn world_from_object(&self) -> &DAffine3 {
         &self.world_from_object
     }

@@ -13,14 +13,18 @@ use crate::geometry::{Bounds, Ray, gamma, intersect_sphere};
 use glam::{Affine3A, Mat3A, Vec2, Vec3A};
 use std::f32::consts::PI;
 
+/// A sphere primitive: world space, or object space with its transform (an ellipsoid).
 #[derive(Clone, Copy, Debug)]
 pub struct SphereGeom {
     /// Centre and radius in the sphere's frame (world space when `transform` is `None`).
     pub center: Vec3A,
+    /// Radius in the same frame as `center` (positive).
     pub radius: f32,
     /// Present for non-similarity transforms (ellipsoids): intersect in object space.
     pub transform: Option<SphereTransform>,
+    /// Index into the scene's material table.
     pub material: u32,
+    /// Area light slot, or [`crate::primitives::NO_LIGHT`].
     pub light: u32,
     /// Compute texture coordinates and dp/du, dp/dv at hits (`true` unless the sphere's material never reads
     /// them and it emits no light; see [`crate::material::Material::uses_surface_coordinates`]). Otherwise they
@@ -28,9 +32,12 @@ pub struct SphereGeom {
     pub coordinates: bool,
 }
 
+/// The transform of an ellipsoid: its sphere's object space to world space and back.
 #[derive(Clone, Copy, Debug)]
 pub struct SphereTransform {
+    /// Object space to world space.
     pub world_from_object: Affine3A,
+    /// World space to object space (the inverse of `world_from_object`).
     pub object_from_world: Affine3A,
     /// Inverse transpose of the linear part: maps object normals to world normals (then normalise).
     pub normal_to_world: Mat3A,

@@ -19,13 +19,17 @@ use glam::DVec3;
 /// Up to four parameter intervals, increasing.
 #[derive(Clone, Copy, Debug)]
 pub struct Spans {
+    /// The intervals `(lo, hi)` of ray parameters; only the first `n` are used.
     pub iv: [(f64, f64); 4],
+    /// Number of intervals in use, 0 to 4.
     pub n: usize,
 }
 
 impl Spans {
+    /// No interval.
     pub const EMPTY: Spans = Spans { iv: [(0.0, 0.0); 4], n: 0 };
 
+    /// The interval `[lo, hi]` alone, or none when `lo > hi`.
     pub fn one(lo: f64, hi: f64) -> Spans {
         let mut s = Spans::EMPTY;
         if lo <= hi {
@@ -50,6 +54,7 @@ impl Spans {
         }
     }
 
+    /// The intervals in use, increasing.
     pub fn as_slice(&self) -> &[(f64, f64)] {
         &self.iv[..self.n]
     }

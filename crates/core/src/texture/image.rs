@@ -38,8 +38,8 @@ pub enum Wrap {
 impl Wrap {
     /// Indices `i` and `i + 1` wrapped into `[0, n)`: the two columns (or rows) of a bilinear lookup. Where both
     /// lie inside the image (nearly every lookup of a uv in [0, 1)) every mode leaves them as they are, which
-    /// spares the two 64-bit divisions of `rem_euclid` (four per lookup; with the `floorf` calls that
-    /// `math::floor_f32` replaced, about 40% of a lookup's time).
+    /// spares the two 64-bit divisions of `rem_euclid` (four per lookup; together with library `floorf` calls,
+    /// which `math::floor_f32` avoids, about 40% of a lookup's time).
     #[inline]
     pub fn index_pair(self, i: i64, n: u32) -> (usize, usize) {
         if i >= 0 && i + 1 < n as i64 { (i as usize, i as usize + 1) } else { (self.index(i, n), self.index(i + 1, n)) }
@@ -63,8 +63,11 @@ impl Wrap {
 /// A decoded image: linear RGB texels, row 0 at the top.
 #[derive(Clone, Debug, PartialEq)]
 pub struct TexImage {
+    /// Width in texels (1 to [`MAX_TEXTURE_SIZE`] for loaded files).
     pub width: u32,
+    /// Height in texels (1 to [`MAX_TEXTURE_SIZE`] for loaded files).
     pub height: u32,
+    /// `width * height` linear RGB texels, row-major from the top row, all finite.
     pub texels: Vec<Vec3>,
     /// The file had one (grey) channel: every texel has r = g = b.
     pub gray: bool,
@@ -215,14 +218,19 @@ impl TexImage {
 /// An image used as a texture: the shared image, its wrap mode and uv transform.
 #[derive(Clone, Debug)]
 pub struct ImageMap {
+    /// The decoded image, shared between the textures that use the file.
     pub image: std::sync::Arc<TexImage>,
+    /// How lookups outside the unit square wrap.
     pub wrap: Wrap,
     /// `uv' = uv * uv_scale + uv_offset`.
     pub uv_scale: Vec2,
+    /// Added to the scaled uv (see `uv_scale`).
     pub uv_offset: Vec2,
 }
 
 impl ImageMap {
+    /// The bilinearly filtered texel value at surface coordinates `uv`, after the uv transform (0 for
+    /// non-finite coordinates).
     #[inline]
     pub fn eval(&self, uv: Vec2) -> Vec3 {
         self.image.bilinear(uv * self.uv_scale + self.uv_offset, self.wrap)

@@ -18,16 +18,21 @@ use glam::{Vec2, Vec3, Vec3A};
 /// Where a texture is looked up: the surface's uv and its world-space position.
 #[derive(Clone, Copy, Debug)]
 pub struct TexPoint {
+    /// Surface texture coordinates (image textures).
     pub uv: Vec2,
+    /// World-space position (solid textures).
     pub p: Vec3A,
 }
 
 /// One channel of an image, for scalar parameters.
 #[derive(serde::Deserialize, Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Channel {
+    /// The red channel (the default).
     #[default]
     R,
+    /// The green channel.
     G,
+    /// The blue channel.
     B,
     /// (R + G + B) / 3.
     Mean,
@@ -48,12 +53,21 @@ impl Channel {
 /// A colour parameter: a constant, or `scale` times texture `tex`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum ColorParam {
+    /// The same linear RGB value everywhere.
     Const(Vec3),
-    Map { tex: u32, scale: Vec3 },
+    /// A texture's RGB times a factor.
+    Map {
+        /// Index into the scene's [`TextureSet`].
+        tex: u32,
+        /// Factor per RGB channel on the texture's value.
+        scale: Vec3,
+    },
 }
 
 impl ColorParam {
+    /// Black: the constant 0.
     pub const ZERO: ColorParam = ColorParam::Const(Vec3::ZERO);
+    /// White: the constant 1.
     pub const ONE: ColorParam = ColorParam::Const(Vec3::ONE);
 
     /// True for the constant 0 (a lobe with this colour can be left out). Each component compared as `== 0.0`
@@ -77,8 +91,17 @@ impl ColorParam {
 /// A scalar parameter: a constant, or `scale` times a channel of texture `tex`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum ScalarParam {
+    /// The same value everywhere.
     Const(f32),
-    Map { tex: u32, channel: Channel, scale: f32 },
+    /// One channel of a texture times a factor.
+    Map {
+        /// Index into the scene's [`TextureSet`].
+        tex: u32,
+        /// Which channel of an image (solid textures have one value and ignore it).
+        channel: Channel,
+        /// Factor on the texture's value.
+        scale: f32,
+    },
 }
 
 impl ScalarParam {
@@ -95,7 +118,9 @@ impl ScalarParam {
 /// A texture of the scene.
 #[derive(Clone, Debug)]
 pub enum Texture {
+    /// An image looked up at the surface's uv.
     Image(ImageMap),
+    /// A 6.837 solid texture evaluated at the world-space point.
     Solid(Solid),
 }
 
@@ -125,15 +150,18 @@ impl Texture {
 /// The scene's textures, shared by all materials (images are shared between textures through `Arc`).
 #[derive(Clone, Debug, Default)]
 pub struct TextureSet {
+    /// The textures; a texture's index is its id in parameters.
     pub textures: Vec<Texture>,
 }
 
 impl TextureSet {
+    /// Append `t` and return its index.
     pub fn add(&mut self, t: Texture) -> u32 {
         self.textures.push(t);
         self.textures.len() as u32 - 1
     }
 
+    /// Texture `id` (an index [`TextureSet::add`] returned; panics beyond the set).
     pub fn get(&self, id: u32) -> &Texture {
         &self.textures[id as usize]
     }

@@ -17,20 +17,28 @@ use glam::{Affine3A, Vec3A};
 /// Which solid pattern.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum SolidKind {
+    /// Alternating unit cubes, 0 on the cell containing the origin.
     Checker3d,
+    /// Perlin noise summed over octaves, mapped to `[0, 1]`.
     Noise,
+    /// Sine bands along texture-space x, perturbed by the noise.
     Marble,
+    /// Sine rings around texture-space y, perturbed by the noise.
     Wood,
 }
 
 /// A solid texture with its parameters.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Solid {
+    /// Checker, noise, marble or wood.
     pub kind: SolidKind,
     /// World point to texture space.
     pub transform: Affine3A,
+    /// Number of noise octaves summed (`Noise`, `Marble`, `Wood`); octave `i` at frequency `2^i`, weight `2^-i`.
     pub octaves: u32,
+    /// Angular frequency of the sine bands or rings, radians per texture-space unit (`Marble`, `Wood`).
     pub frequency: f32,
+    /// Phase perturbation of the bands or rings per unit of noise, radians (`Marble`, `Wood`).
     pub amplitude: f32,
 }
 

@@ -12,6 +12,9 @@ use prism_core::integrator::PassOutput;
 use std::sync::atomic::Ordering;
 use std::time::{Duration, Instant};
 
+/// Merge `pass_output` into the film (committed only when the pass is complete), advance the progress to this
+/// process's next pass, mark the render finished (passes done, time budget crossed, or cancelled: interrupted),
+/// update the progress bar and write a checkpoint when one is due. Errors on a tile outside the film.
 pub fn accumulate_system(_world: &mut World, res: &mut Resources) -> Result<()> {
     let Some(out) = res.pass_output.take() else {
         return Ok(());

@@ -16,6 +16,9 @@ use std::time::Instant;
 /// Entities with area lights and their primitive ranges, from BuildAccel to Prepare.
 pub(super) struct Emitters(pub(super) Vec<(hecs::Entity, EntityPrims)>);
 
+/// Flatten the entities into primitives, build the chosen accelerator and the camera, and store the render scene
+/// (without lights) in `scene`. Errors when there is no camera or its view is degenerate, and on bad geometry or
+/// accelerator settings.
 pub fn build_scene_system(world: &mut World, res: &mut Resources) -> Result<()> {
     let t0 = Instant::now();
     let camera = {

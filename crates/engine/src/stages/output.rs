@@ -9,6 +9,8 @@ use hecs::World;
 use prism_core::error::{PrismError, Result};
 use prism_core::io::{Image, write_image};
 
+/// Write the image outputs; then save the film of an interrupted render (for `--resume`), or remove a completed
+/// render's checkpoint film.
 pub fn output_system(_world: &mut World, res: &mut Resources) -> Result<()> {
     if let Some(bar) = res.get::<ProgressReporter>() {
         bar.finish();

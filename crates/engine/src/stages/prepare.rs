@@ -11,6 +11,8 @@ use prism_core::film::{Film, ShardAxis};
 use std::sync::atomic::Ordering;
 use std::time::Instant;
 
+/// Resolve the scene's lights to world space (area lights over the primitives BuildAccel recorded) into the render
+/// scene.
 pub fn build_lights_system(world: &mut World, res: &mut Resources) -> Result<()> {
     let emitters = res.get::<Emitters>().map(|e| e.0.clone()).unwrap_or_default();
     let lights = place_lights(world, &res.scene()?.prims, &emitters).map_err(|e| in_scene_file(res, e))?;
@@ -20,6 +22,8 @@ pub fn build_lights_system(world: &mut World, res: &mut Resources) -> Result<()>
     Ok(())
 }
 
+/// Instantiate and prepare the chosen integrator, make the film (row-sharded where the integrator shards by rows),
+/// resume it from `resume` when given, skip to this process's first pass and create the progress bar.
 pub fn prepare_integrator_system(_world: &mut World, res: &mut Resources) -> Result<()> {
     let t0 = Instant::now();
     let mut integrator = res.integrators.create(&res.settings.integrator)?;

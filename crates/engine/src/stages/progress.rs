@@ -3,12 +3,15 @@
 use indicatif::{ProgressBar, ProgressStyle};
 use prism_core::settings::RenderSettings;
 
+/// The terminal progress bar of one render.
 pub struct ProgressReporter {
     bar: ProgressBar,
     by_time: bool,
 }
 
 impl ProgressReporter {
+    /// A bar counting samples per pixel up to `spp`, or tenths of seconds up to the time budget when only that
+    /// bounds the render (passes when neither does).
     pub fn new(s: &RenderSettings) -> Self {
         // Track samples when the sample count bounds the render, seconds when only the time budget does.
         let (len, by_time) = match (s.spp, s.time_budget) {
@@ -38,6 +41,7 @@ impl ProgressReporter {
         }
     }
 
+    /// Remove the bar from the terminal.
     pub fn finish(&self) {
         self.bar.finish_and_clear();
     }

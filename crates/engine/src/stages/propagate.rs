@@ -7,6 +7,8 @@ use hecs::{Entity, World};
 use prism_core::error::{PrismError, Result};
 use std::collections::HashMap;
 
+/// Insert every entity's `WorldFromLocal`: its `Transform` composed with its ancestors'. Errors on a parent cycle
+/// and on a composed transform that is not finite and invertible.
 pub fn propagate_transforms(world: &mut World, res: &mut crate::Resources) -> Result<()> {
     let nodes: HashMap<Entity, (Affine3A, Option<Entity>)> = world
         .query::<(Entity, Option<&Transform>, Option<&Parent>)>()

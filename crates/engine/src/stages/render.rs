@@ -6,6 +6,8 @@ use prism_core::error::{PrismError, Result};
 use prism_core::integrator::PassInfo;
 use std::time::Instant;
 
+/// Render pass `progress.passes_done` into `pass_output`, adding its wall and CPU time to the progress; nothing once
+/// the render is finished. Errors when BuildAccel or Prepare did not run.
 pub fn render_pass_system(_world: &mut World, res: &mut Resources) -> Result<()> {
     if res.progress.finished {
         return Ok(());

@@ -20,6 +20,9 @@ use rayon::prelude::*;
 use std::time::Duration;
 
 impl UniformGrid {
+    /// Build over the bounded primitives of `prims` at `resolution` (automatic ones with [`DEFAULT_LAMBDA`]).
+    /// Errors for a fixed resolution [`check_resolution`] rejects, or one so fine that insertion would take more
+    /// than [`MAX_CANDIDATES`] cell tests.
     pub fn build(prims: &Primitives, resolution: GridResolution) -> Result<Self> {
         Self::build_with_lambda(prims, resolution, DEFAULT_LAMBDA)
     }

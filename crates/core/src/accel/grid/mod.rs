@@ -7,7 +7,7 @@
 //! fewer along the others (cells as close to cubes as the integer counts allow), at most [`AUTO_MAX_PER_AXIS`]
 //! per axis, halved while the primitives' bounds span more than [`AUTO_MAX_CELLS_PER_PRIM`] cells on average
 //! (huge or identical triangles, where finer cells only multiply references). `lambda` = [`DEFAULT_LAMBDA`],
-//! chosen by measurement (README, "Accelerators").
+//! chosen by measurement (see `docs/decisions/0026-grid-resolution.md`).
 //!
 //! Insertion. Primitives are world-space already (nested transforms composed): a triangle goes into every cell
 //! its exact vertices' triangle overlaps (separating-axis test against the cell, `tri_box.rs`); an analytic shape
@@ -184,7 +184,9 @@ impl Dda {
 /// A cell of the grid (or of a nested grid) and how many primitive references it holds.
 #[derive(Clone, Copy, Debug)]
 pub struct GridCell {
+    /// The cell's box, world space.
     pub bounds: Bounds,
+    /// Primitive references listed in the cell.
     pub count: u32,
     /// Nesting depth (0 = the top grid).
     pub depth: u32,
@@ -193,12 +195,16 @@ pub struct GridCell {
 /// The first occupied cell a ray enters (for the `-visualize_grid` view).
 #[derive(Clone, Copy, Debug)]
 pub struct CellHit {
+    /// Ray parameter where the ray enters the cell (0 when the ray starts inside it).
     pub t: f32,
     /// Outward normal of the cell face the ray entered through.
     pub normal: Vec3A,
+    /// The cell entered.
     pub cell: GridCell,
 }
 
+/// `--accel grid`: a uniform grid whose cells list the bounded primitives overlapping them, with nested grids in
+/// crowded cells, traversed by 3D-DDA (see the module notes).
 pub struct UniformGrid {
     levels: Vec<Level>,
     refs: Vec<u32>,

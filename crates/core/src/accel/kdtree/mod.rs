@@ -69,39 +69,48 @@ pub struct KdNode {
 }
 
 impl KdNode {
+    /// An interior node splitting `axis` (0, 1, 2) at the plane `split`: the "below" child is the next node, the
+    /// "above" child is node `above` (below `2^30`).
     pub fn interior(axis: usize, split: f32, above: u32) -> Self {
         KdNode { a: split.to_bits(), b: (above << 2) | axis as u32 }
     }
 
+    /// A leaf of `count` (below `2^30`) entries from index `first` of the tree's primitive (or packet) list.
     pub fn leaf(first: u32, count: u32) -> Self {
         KdNode { a: first, b: (count << 2) | 3 }
     }
 
+    /// True for a leaf, false for an interior node.
     #[inline(always)]
     pub fn is_leaf(&self) -> bool {
         self.b & 3 == 3
     }
 
+    /// The split axis (0 = x, 1 = y, 2 = z) of an interior node; 3 for a leaf.
     #[inline(always)]
     pub fn axis(&self) -> usize {
         (self.b & 3) as usize
     }
 
+    /// The split plane's position along [`KdNode::axis`] (interior nodes only).
     #[inline(always)]
     pub fn split(&self) -> f32 {
         f32::from_bits(self.a)
     }
 
+    /// Index of the "above" child, the side of larger coordinates (interior nodes only).
     #[inline(always)]
     pub fn above(&self) -> u32 {
         self.b >> 2
     }
 
+    /// Index of the leaf's first entry in the primitive (or packet) list (leaves only).
     #[inline(always)]
     pub fn first(&self) -> u32 {
         self.a
     }
 
+    /// Number of entries of the leaf (leaves only).
     #[inline(always)]
     pub fn count(&self) -> u32 {
         self.b >> 2
@@ -120,12 +129,15 @@ impl KdNode {
 /// What the build produced.
 #[derive(Clone, Debug, Default)]
 pub struct KdTreeData {
+    /// The nodes, root first, each "below" child right after its parent.
     pub nodes: Vec<KdNode>,
     /// Primitive ids of the leaves.
     pub prims: Vec<u32>,
+    /// Depth of the deepest leaf (the root is depth 0).
     pub max_depth: u32,
 }
 
+/// `--accel kdtree`: the SAH kd-tree, its leaves' primitives in packets (see the module notes).
 pub struct KdTree {
     /// Interior nodes as built; leaves re-pointed at their first packet in `packets` (count = packets).
     nodes: Vec<KdNode>,
@@ -158,10 +170,12 @@ fn pack_leaves(prims: &Primitives, data: KdTreeData) -> (Vec<KdNode>, Vec<LeafPa
 }
 
 impl KdTree {
+    /// Build over the bounded primitives of `prims` with the default [`KdParams`].
     pub fn build(prims: &Primitives) -> Self {
         Self::build_with(prims, KdParams::default())
     }
 
+    /// Build over the bounded primitives of `prims` with the given costs and limits (for measuring them).
     pub fn build_with(prims: &Primitives, params: KdParams) -> Self {
         let n = prims.num_bounded();
         let bounds = if n == 0 { Bounds::EMPTY } else { padded(&prims.bounds) };
@@ -176,6 +190,8 @@ impl KdTree {
         self.depth
     }
 
+    /// The nodes, root first. Leaves point into the packet array: their `first` and `count` are packets, not
+    /// primitives.
     pub fn nodes(&self) -> &[KdNode] {
         &self.nodes
     }

@@ -13,8 +13,9 @@
 //! The cost of a wide tree, relative to its root's box: every node's box test weighs its box's area, every leaf
 //! its box's area times its packets (the expected number of node tests and packet tests of a ray through the root
 //! box, by the surface-area heuristic). It ranked the two candidates the way the bench's rays did on every scene
-//! measured (`docs/performance_log_early.md`). The two builds run side by side (`rayon::join`); inputs that make
-//! PLOC degenerate (many primitives in one Morton cell) get the top-down build alone, with its robust binning.
+//! measured (see `docs/decisions/0002-two-candidate-trees.md`). The two builds run side by side (`rayon::join`);
+//! inputs that make PLOC degenerate (many primitives in one Morton cell) get the top-down build alone, with its
+//! robust binning.
 
 use super::topdown::{self, Binning};
 use super::{EMPTY, LEAF_BIT, Node, WIDTH, WideBvh, leaf_packets};
@@ -34,10 +35,13 @@ pub enum Candidate {
 /// Whether the SAH candidate splits triangles (`spatial_split.rs`). Spatial splits cost the build about twice its time
 /// (the dragon, 100k triangles: 80 -> 160 ms on two threads) and save traversal only in proportion to the rays
 /// traced (its bounce rays 5-7% faster; a 256x256 render of it under an environment map at 64 spp 1.5% faster, which
-/// does not yet repay the build): see [`SpatialSplits::for_samples`].
+/// does not yet repay the build): see [`SpatialSplits::for_samples`] and
+/// `docs/decisions/0003-spatial-splits.md`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum SpatialSplits {
+    /// Search spatial splits wherever the best object split's children overlap.
     Yes,
+    /// Object splits only.
     No,
 }
 

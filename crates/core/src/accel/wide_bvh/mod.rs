@@ -16,7 +16,7 @@
 //! Why not obvhs's own CWBVH traversal (still available as `--accel cwbvh`, `cwbvh.rs`): its 8-wide nodes are
 //! quantised for GPU memory bandwidth (Ylitie et al. 2017), so every node visit first decompresses eight boxes; on
 //! a CPU core the uncompressed layout tests the same boxes with fewer instructions and no per-child decode
-//! (measured in the README's performance section).
+//! (see `docs/decisions/0001-wide-bvh-default.md`).
 //!
 //! Traversal: ordered (children pushed far to near by their entry distance, so the nearest is taken first; with
 //! three or more, each child's stack slot is counted without branches, `BoxTest::stack_slots`), with a
@@ -75,6 +75,8 @@ struct Node {
     child: [u32; WIDTH],
 }
 
+/// `--accel bvh`, the default: the 8-wide BVH with structure-of-arrays boxes and packet leaves (see the module
+/// notes).
 pub struct WideBvh {
     nodes: Vec<Node>,
     /// Each leaf's child word (without `LEAF_BIT`), in the order they were made (for tools and statistics: the
