@@ -32,15 +32,18 @@ fn the_custom_ao_integrator_sees_an_open_plane_unoccluded_and_the_contact_of_a_b
     let source =
         SceneSource::RonText { text: text.into(), name: PathBuf::from("ao.ron"), base_dir: PathBuf::from(".") };
     let mut app = custom_integrator::ao_app(source);
+    app.resources.overrides.integrator = Some("ao(distance: 1)".into());
     app.run().unwrap();
     let img = prism::stages::film_image(&app.resources).unwrap();
-    // A corner sees the plane 2.8 units from the ball's centre: nothing within 0.5, so every sample is 1.
+    // A corner sees the plane 2.75 units from the ball's axis, 1.93 from its surface: nothing within 1, so every
+    // sample is 1.
     assert_eq!(img.get(0, 0), glam::Vec3::ONE, "open plane");
     // The ball's top is convex: its hemisphere is open too.
     assert_eq!(img.get(16, 16), glam::Vec3::ONE, "the ball's top");
-    // Just outside the silhouette (radius 1.1 on the plane) the ball fills part of the hemisphere within 0.5.
-    let ring = img.get(16 + 9, 16).x;
-    assert!(ring < 0.97, "the plane beside the ball is occluded: {ring}");
+    // Just outside the silhouette (1.06 from the axis, 0.46 from the ball) the ball fills a cone of half-angle 43
+    // degrees towards the horizon, most of it within 1.
+    let ring = img.get(16 + 8, 16).x;
+    assert!(ring < 0.9, "the plane beside the ball is occluded: {ring}");
     let mut bad = custom_integrator::ao_app(SceneSource::RonText {
         text: text.replace("render: (spp: 16)", "render: (integrator: ao(distanse: 1))"),
         name: PathBuf::from("ao.ron"),
