@@ -1,5 +1,5 @@
 //! Where methods fail: NaN samples never reach the film, an interrupted render keeps what it had, the time budget
-//! stops after the pass that crosses it, degenerate and huge geometry is handled.
+//! ends the render when spent, degenerate and huge geometry is handled.
 
 use crate::common::{app_from_ron, render_ron, spp};
 use glam::Vec3;
@@ -64,13 +64,31 @@ fn an_interrupted_render_keeps_the_passes_it_finished() {
 }
 
 #[test]
-fn the_time_budget_stops_after_the_pass_that_crosses_it() {
+fn the_time_budget_ends_the_render_inside_a_pass_that_would_outlast_it() {
+    // A scene of a million samples per pixel: its passes hold 62,500 each, minutes of work. The budget's watchdog
+    // cuts the first one short; its finished tiles are shown, and it does not count as done.
     let mut app = app_from_ron(
-        "(camera: (size: (16, 16)), entities: [(shape: Sphere())])",
-        Overrides { time_budget: Some(1e-9), spp_unlimited: true, ..Default::default() },
+        "(camera: (size: (64, 64)), render: (integrator: envlight, spp: 1000000), entities: [(shape: Sphere())])",
+        Overrides { time_budget: Some(0.3), spp_unlimited: true, ..Default::default() },
+    );
+    let t0 = std::time::Instant::now();
+    app.run().unwrap();
+    let took = t0.elapsed().as_secs_f64();
+    assert!(took < 20.0, "a 0.3 s budget took {took} s");
+    assert_eq!(app.resources.progress.passes_done, 0, "the cut pass does not count");
+    assert!(!app.resources.progress.interrupted, "a spent budget is the end of the render, not an interruption");
+    assert_eq!(app.resources.settings.pass_spp, 62_500);
+}
+
+#[test]
+fn photon_mapping_under_a_time_budget_runs_one_iteration_per_pass() {
+    let mut app = app_from_ron(
+        "(camera: (size: (16, 16)), render: (integrator: ppm, spp: 4096), entities: [(shape: Sphere())])",
+        Overrides { time_budget: Some(0.5), spp_unlimited: true, ..Default::default() },
     );
     app.run().unwrap();
-    assert_eq!(app.resources.progress.passes_done, 1);
+    assert_eq!(app.resources.settings.pass_spp, 1, "a cut pass loses at most one iteration");
+    assert!(app.resources.progress.passes_done >= 1);
 }
 
 #[test]
@@ -134,7 +152,12 @@ impl prism::integrator::Integrator for MalformedTiles {
         let (w, h) = (pass.settings.width, pass.settings.height);
         let tile = prism::integrator::Tile { x0: 0, y0: 0, w, h };
         let n = (w * h) as usize;
-        let t = prism::integrator::TileSamples { tile, counts: vec![1; n - 1], sums: vec![Vec3::ONE; n], nonfinite: 0 };
+        let t = prism::integrator::TileSamples {
+            tile,
+            counts: vec![1; n - 1],
+            sums: vec![prism::film::FixedRgb::from_rgb(1.0, 1.0, 1.0); n],
+            nonfinite: 0,
+        };
         prism::integrator::PassOutput::Samples(vec![t])
     }
 }

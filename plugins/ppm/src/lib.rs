@@ -362,12 +362,20 @@ impl Integrator for Ppm {
 
     fn render_pass(&mut self, scene: &Scene, pass: &PassInfo, cancel: &AtomicBool) -> PassOutput {
         let fixed = self.params.mode == PpmMode::Fixed;
+        // A pass cut short is dropped whole: the state goes back to the end of the last complete pass, which the
+        // film and a saved `.prism-film` describe (an iteration of the cut pass would otherwise count twice on a
+        // resume, which renders the pass again).
+        let before = (pass.spp > 1).then(|| (self.iterations, self.stats.clone()));
         let mut complete = true;
         for _ in 0..pass.spp.max(1) {
             if !self.iterate(scene, pass.settings, cancel) {
                 complete = false;
                 break;
             }
+        }
+        if !complete && let Some((iterations, stats)) = before {
+            self.iterations = iterations;
+            self.stats = stats;
         }
         if self.iterations > 0 && !self.warned_no_visible_points && self.stats.iter().all(|s| !s.has_radius()) {
             self.warned_no_visible_points = true;
@@ -385,6 +393,11 @@ impl Integrator for Ppm {
             }
         }
         PassOutput::Estimate { image: self.image(fixed), complete }
+    }
+
+    fn samples_per_timed_pass(&self, _planned: u32) -> u32 {
+        // A pass cut short is dropped whole (its iterations would double on a resume): one iteration per pass.
+        1
     }
 
     fn shard_axis(&self) -> prism_core::integrator::ShardAxis {

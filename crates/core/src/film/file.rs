@@ -201,8 +201,20 @@ pub fn parse_film(bytes: &[u8], path: &Path) -> Result<FilmFile> {
     }
     let mut sum = Vec::with_capacity(pixels as usize);
     let mut count = Vec::with_capacity(pixels as usize);
-    for _ in 0..pixels {
-        sum.push(FixedRgb([r.i128()?, r.i128()?, r.i128()?]));
+    for i in 0..pixels {
+        let s = FixedRgb([r.i128()?, r.i128()?, r.i128()?]);
+        // Radiance is never negative, so neither is a sum of it: such a film is forged or corrupt.
+        if s.0.iter().any(|&c| c < 0) {
+            return Err(PrismError::format(
+                path,
+                format!(
+                    "pixel ({}, {}) has a negative radiance sum (a corrupt or forged film)",
+                    i % width as u64,
+                    i / width as u64
+                ),
+            ));
+        }
+        sum.push(s);
         count.push(r.u64()?);
     }
     let state_len = r.u64()?;

@@ -9,6 +9,9 @@
 /// Scale of the fixed-point representation: 2^40.
 pub const FIXED_ONE: f64 = 1_099_511_627_776.0;
 
+/// The largest sum a channel holds, `(2^127 - 1) / 2^40` (about 1.5e26): sums that reach it stay there.
+pub const MAX_SUM: f64 = i128::MAX as f64 / FIXED_ONE;
+
 /// `v` in fixed point (non-finite values count as 0; the film reports them separately).
 #[inline]
 pub fn to_fixed(v: f64) -> i128 {
@@ -43,6 +46,19 @@ impl FixedRgb {
         for c in 0..3 {
             self.0[c] = self.0[c].saturating_add(o.0[c]);
         }
+    }
+
+    /// Add one sample's radiance, converted exactly as [`FixedRgb::from_rgb`] converts it: the sum of a pixel's
+    /// samples is then the same integers whatever order or grouping they are added in.
+    #[inline]
+    pub fn add_sample(&mut self, v: glam::Vec3) {
+        self.add(FixedRgb::from_rgb(v.x as f64, v.y as f64, v.z as f64));
+    }
+
+    /// Whether a channel sits at the range's end (a sum of radiance above [`MAX_SUM`], clipped).
+    #[inline]
+    pub fn saturated(&self) -> bool {
+        self.0.iter().any(|&c| c == i128::MAX || c == i128::MIN)
     }
 
     /// The sums back as `f64` per channel ([`from_fixed`]).

@@ -93,8 +93,7 @@ impl Film {
         for y in 0..t.tile.h {
             for x in 0..t.tile.w {
                 let i = ((t.tile.y0 + y - first_row) * width + t.tile.x0 + x) as usize;
-                let s = t.sums[(y * t.tile.w + x) as usize];
-                sum[i].add(FixedRgb::from_rgb(s.x as f64, s.y as f64, s.z as f64));
+                sum[i].add(t.sums[(y * t.tile.w + x) as usize]);
                 count[i] += t.counts[(y * t.tile.w + x) as usize] as u64;
             }
         }
@@ -146,13 +145,13 @@ impl Film {
     }
 
     /// The partial pass's sums and counts per pixel (zero where it has none).
-    fn partial_at(&self) -> Vec<(Vec3, u64)> {
-        let mut out = vec![(Vec3::ZERO, 0u64); self.sum.len()];
+    fn partial_at(&self) -> Vec<(FixedRgb, u64)> {
+        let mut out = vec![(FixedRgb::default(), 0u64); self.sum.len()];
         for t in &self.partial {
             for y in 0..t.tile.h {
                 for x in 0..t.tile.w {
                     let i = ((t.tile.y0 + y) * self.width + t.tile.x0 + x) as usize;
-                    out[i].0 += t.sums[(y * t.tile.w + x) as usize];
+                    out[i].0.add(t.sums[(y * t.tile.w + x) as usize]);
                     out[i].1 += t.counts[(y * t.tile.w + x) as usize] as u64;
                 }
             }
@@ -176,12 +175,18 @@ impl Film {
             .map(|(i, (s, &c))| {
                 let (mut total, mut n) = (s.to_dvec3(), c);
                 if let Some(p) = &partial {
-                    total += p[i].0.as_dvec3();
+                    total += p[i].0.to_dvec3();
                     n = n.saturating_add(p[i].1);
                 }
                 if n == 0 { Vec3::ZERO } else { (total / n as f64).as_vec3() }
             })
             .collect()
+    }
+
+    /// Pixels whose committed sum reached the fixed-point range in some channel (radiance sums above
+    /// [`fixed::MAX_SUM`], clipped there).
+    pub fn saturated_pixels(&self) -> usize {
+        self.sum.iter().filter(|s| s.saturated()).count()
     }
 
     /// Fewest and most samples any pixel has, partial pass included (they differ after a pass cut short).

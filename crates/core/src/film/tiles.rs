@@ -1,6 +1,7 @@
 //! What a pass hands the film: the image cut into tiles, and per tile the radiance sums and sample counts of its
 //! pixels (or, for methods whose estimate is not a mean of samples, a whole image).
 
+use super::FixedRgb;
 use glam::Vec3;
 
 /// Side of the square tiles passes render (the last row and column of tiles may be smaller).
@@ -38,8 +39,10 @@ pub struct TileSamples {
     pub tile: Tile,
     /// Samples taken per pixel, row-major within the tile (`w * h` entries).
     pub counts: Vec<u32>,
-    /// Linear RGB radiance summed over each pixel's samples, row-major within the tile (`w * h` entries).
-    pub sums: Vec<Vec3>,
+    /// Linear RGB radiance summed over each pixel's samples, each sample converted to fixed point before it is added
+    /// (so the sums do not depend on how samples are grouped into passes), row-major within the tile (`w * h`
+    /// entries).
+    pub sums: Vec<FixedRgb>,
     /// Samples that came out NaN or infinite and were replaced by 0 (reported in the render summary).
     pub nonfinite: u32,
 }

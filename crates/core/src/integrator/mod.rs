@@ -64,6 +64,13 @@ pub trait Integrator: Send + Sync {
         ShardAxis::Passes
     }
 
+    /// Samples a pass holds when the render's budget is time alone (`planned`: the settings' choice). The pass the
+    /// budget ends is cut short and does not count; an integrator whose samples build on each other (photon
+    /// mapping's iterations, whose cut pass is dropped whole) takes one per pass, so the budget loses at most one.
+    fn samples_per_timed_pass(&self, planned: u32) -> u32 {
+        planned
+    }
+
     /// Whether `adaptive` settings change how this integrator distributes samples (per-pixel estimators do; a
     /// render asking for it with another integrator is warned that it has no effect).
     fn adapts_samples(&self) -> bool {

@@ -28,6 +28,7 @@
 use super::{Integrator, PassInfo, PassOutput, PixelIntegrator, SampleAllocation, Tile, TileSamples, tiles};
 use crate::accel::PACKET;
 use crate::error::Result;
+use crate::film::FixedRgb;
 use crate::geometry::Ray;
 use crate::sampling::{Rng, SOBOL_BATCH, Sampler, SamplerKind, SobolBatch, hash_u64};
 use crate::scene::Scene;
@@ -91,7 +92,9 @@ struct PixelSamples {
     total: u32,
     key: u32,
     centre: Vec2,
-    sum: Vec3,
+    /// The samples' sum, each sample converted to fixed point as it is added (exact and order-independent).
+    sum: FixedRgb,
+    /// The sum of squared samples (the adaptive pilot's noise estimate).
     sum_sq: Vec3,
 }
 
@@ -115,7 +118,8 @@ impl<T: PixelIntegrator> PerPixel<T> {
         let pixel = y as u64 * s.width as u64 + x as u64;
         let px = pixel as usize;
         let pixel_key = hash_u64(s.seed ^ hash_u64(pixel)) as u32;
-        let mut sampler = Sampler::new(s.sampler, pixel_key, Rng::for_pixel(s.seed, pixel, pass.index as u64));
+        // The pixel's stream: each sample's independent numbers derive from it and the sample's index alone.
+        let sampler = Sampler::new(s.sampler, pixel_key, Rng::for_pixel(s.seed, pixel, 0));
         // This pass's samples of the pixel's sequence (the nominal range, or the allocation's), and the set an
         // explicit pattern stratifies them over: `(first index, count, key)`. With a known total, the pixel's whole
         // render (its key the same in every pass); in an adaptive render the pilot, then the pixel's samples after
@@ -132,7 +136,8 @@ impl<T: PixelIntegrator> PerPixel<T> {
         };
         let (base, total, key) = match strata {
             Some((b, n, k)) => (b as u32, n.min(u32::MAX as u64) as u32, k),
-            None => (0, (end - first) as u32, sampler.rng().next_u32()),
+            // With a time budget the pass is its own set, keyed by the pass.
+            None => (0, (end - first) as u32, hash_u64(pixel_key as u64 ^ hash_u64(pass.index as u64)) as u32),
         };
         PixelSamples {
             sampler,
@@ -142,7 +147,7 @@ impl<T: PixelIntegrator> PerPixel<T> {
             total,
             key,
             centre: Vec2::new(x as f32 + 0.5, y as f32 + 0.5),
-            sum: Vec3::ZERO,
+            sum: FixedRgb::default(),
             sum_sq: Vec3::ZERO,
         }
     }
@@ -284,7 +289,7 @@ impl<T: PixelIntegrator> PerPixel<T> {
                         return None;
                     }
                     if l.is_finite() {
-                        p.sum += l;
+                        p.sum.add_sample(l);
                         p.sum_sq += l * l;
                     } else {
                         nonfinite += 1;
@@ -329,7 +334,7 @@ impl<T: PixelIntegrator> PerPixel<T> {
             for (k, (s, q)) in t.samples.sums.iter().zip(&t.squares).enumerate() {
                 let (x, y) = (tile.x0 + k as u32 % tile.w, tile.y0 + k as u32 / tile.w);
                 let i = y as usize * w as usize + x as usize;
-                sums[i] = *s;
+                sums[i] = s.to_dvec3().as_vec3();
                 squares[i] = *q;
             }
         }

@@ -36,6 +36,14 @@ impl Rng {
         Rng::new(a, b)
     }
 
+    /// An independent generator for item `index` of this stream (a sample of a pixel): a pure function of the
+    /// stream's state and `index`, whatever was drawn from the stream before.
+    #[inline]
+    pub fn sub_stream(&self, index: u32) -> Self {
+        let a = hash_u64(self.state ^ hash_u64(index as u64 ^ 0x5375_6273_7472_6561));
+        Rng::new(a, (self.inc >> 1) ^ hash_u64(a))
+    }
+
     /// The next 32 uniformly distributed bits (one PCG32 step).
     #[inline]
     pub fn next_u32(&mut self) -> u32 {

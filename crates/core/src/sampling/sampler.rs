@@ -97,7 +97,13 @@ pub struct Sampler {
     dim: u32,
     /// 2D requests so far in this sample (for `stratified`).
     requests_2d: u32,
+    /// The stream the samples' independent numbers derive from (the pixel's, or the photon's).
+    stream: Rng,
+    /// The current sample's independent numbers: `stream`'s sub-stream for the sample's index, made when first
+    /// asked for (`rng_fresh`), so that they depend on the sample's index alone, never on which samples the same
+    /// sampler ran before it (a render's image does not depend on how its samples are grouped into passes).
     rng: Rng,
+    rng_fresh: bool,
     /// The Sobol scramble keys of 2D dimensions, which depend on (pixel key, dimension) only: computed by the
     /// pixel's first sample and reused by the rest. Slot `(dim / 2) % KEY_SLOTS` holds the three keys and `dim + 1`
     /// (0: empty); a dimension whose slot holds another recomputes its keys.
@@ -178,8 +184,9 @@ fn cached_keys_2d(keys_2d: &mut [[u32; 4]; KEY_SLOTS], dim: u32, key: u32) -> [u
 const KEY_SLOTS: usize = 32;
 
 impl Sampler {
-    /// A sampler whose Sobol points are scrambled by `key` and whose independent numbers come from `rng`.
-    pub fn new(kind: SamplerKind, key: u32, rng: Rng) -> Self {
+    /// A sampler whose Sobol points are scrambled by `key` and whose independent numbers come from sub-streams of
+    /// `stream`, one per sample index.
+    pub fn new(kind: SamplerKind, key: u32, stream: Rng) -> Self {
         Sampler {
             kind,
             key,
@@ -187,7 +194,9 @@ impl Sampler {
             index_rev: 0,
             dim: 0,
             requests_2d: 0,
-            rng,
+            rng: stream.clone(),
+            stream,
+            rng_fresh: false,
             keys_2d: [[0; 4]; KEY_SLOTS],
             pre_dims: [0; MAX_BATCH_DIMS],
             pre: [Vec2::ZERO; MAX_BATCH_DIMS],
@@ -216,6 +225,7 @@ impl Sampler {
         self.requests_2d = 0;
         self.pre_len = 0;
         self.pre_next = 0;
+        self.rng_fresh = false;
     }
 
     /// The scramble keys of the Sobol points at dimensions `dim, dim + 1` (cached per pixel as `next_2d` caches
@@ -273,9 +283,13 @@ impl Sampler {
         self.index
     }
 
-    /// The sampler's independent stream.
+    /// The current sample's independent stream: a pure function of the sampler's stream and the sample's index.
     #[inline]
     pub fn rng(&mut self) -> &mut Rng {
+        if !self.rng_fresh {
+            self.rng = self.stream.sub_stream(self.index);
+            self.rng_fresh = true;
+        }
         &mut self.rng
     }
 
@@ -301,7 +315,7 @@ impl Sampler {
         self.dim += 1;
         match self.kind {
             SamplerKind::Sobol => self.sobol_1d_at(dim),
-            _ => self.rng.next_f32(),
+            _ => self.rng().next_f32(),
         }
     }
 
@@ -382,7 +396,7 @@ impl Sampler {
             SamplerKind::Sobol => self.sobol_2d_at(dim),
             // The first vertex's light and BSDF points (the first two 2D requests after the camera's).
             SamplerKind::Stratified if (2..4).contains(&request) => self.sobol_2d_at(dim),
-            _ => self.rng.next_2d(),
+            _ => self.rng().next_2d(),
         }
     }
 }

@@ -27,6 +27,9 @@ pub fn build_lights_system(world: &mut World, res: &mut Resources) -> Result<()>
 pub fn prepare_integrator_system(_world: &mut World, res: &mut Resources) -> Result<()> {
     let t0 = Instant::now();
     let mut integrator = res.integrators.create(&res.settings.integrator)?;
+    if res.settings.spp.is_none() {
+        res.settings.pass_spp = integrator.samples_per_timed_pass(res.settings.pass_spp).max(1);
+    }
     integrator.prepare(res.scene()?, &res.settings)?;
     if res.settings.adaptive && !integrator.adapts_samples() {
         eprintln!(
