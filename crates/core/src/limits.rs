@@ -9,6 +9,7 @@
 //! | decoded input image (EXR, HDR; env maps, textures, `compare`) | 65536 per side, 2^26 pixels | 12 bytes per texel, decoded once |
 //! | nesting depth of scene entities (RON `children`, 6.837 `Group`/`Transform`) | 10000 | the loader's stack |
 //! | world-space coordinate magnitude | 1e18 | squares and products of coordinates stay finite in `f32` |
+//! | world-space primitives (triangles after instancing, analytic shapes) | 2^26 | about 200 bytes each with the accelerator |
 //! | worker threads (`--threads`) | 1024 | each thread reserves a stack |
 //! | durations (`--time`, `--checkpoint`, `bench --seconds`) | 1e9 s (about 31 years) | `std::time::Duration` holds them exactly |
 //! | `bench --size` | 4096 (16.7 M camera rays) | rays are kept in memory |
@@ -32,6 +33,10 @@ pub const MAX_NESTING_DEPTH: usize = 10_000;
 /// Largest magnitude of a world-space coordinate (after transforms): products of two coordinates stay finite in
 /// single precision, which ray–sphere and ray–triangle tests and the BVH's node quantisation rely on.
 pub const MAX_COORDINATE: f32 = 1e18;
+
+/// Most world-space primitives (triangles, after meshes are placed once per use, and analytic shapes) a scene may
+/// flatten into: about 200 bytes each with the accelerator, so 2^26 = 67 M of them take about 13 GiB.
+pub const MAX_PRIMITIVES: u64 = 1 << 26;
 
 /// Most worker threads `--threads` may ask for.
 pub const MAX_THREADS: usize = 1024;

@@ -179,6 +179,22 @@ fn min_element_bytes(e: &ElementDef, encoding: Encoding) -> u64 {
         .sum()
 }
 
+/// A header error in Prism's words: the crate's message carries its parser's Debug structures and the offending
+/// line's text, neither of which belongs in a one-line error.
+fn header_error(e: &ply_rs_bw::parser::ParseError) -> String {
+    let text = one_line(e);
+    let line = text.strip_prefix("Line ").and_then(|r| r.split(':').next()).and_then(|n| n.trim().parse::<u64>().ok());
+    match line {
+        Some(n) => format!(
+            "line {n} is not a PLY header line (`format ascii|binary_little_endian|binary_big_endian 1.0`, \
+             `element NAME COUNT`, `property TYPE NAME`, `property list TYPE TYPE NAME`, `comment ...`, `end_header`; \
+             TYPE is char, uchar, short, ushort, int, uint, float, double or a sized name such as float32)"
+        ),
+        // Messages without a line (a missing `ply` magic, the end of the file) are short and plain.
+        None => text.split(" Error:").next().unwrap_or(&text).to_string(),
+    }
+}
+
 /// The crate's (multi-line) error as one line.
 fn one_line(e: &ply_rs_bw::parser::ParseError) -> String {
     e.to_string().split_whitespace().collect::<Vec<_>>().join(" ")
@@ -186,7 +202,7 @@ fn one_line(e: &ply_rs_bw::parser::ParseError) -> String {
 
 /// Read a PLY file into a mesh (local frame; the file name as the mesh name).
 pub fn load_ply(path: &Path) -> Result<MeshData> {
-    let bytes = std::fs::read(path).map_err(|e| PrismError::io(path, e))?;
+    let bytes = prism_core::io::read_regular(path, "PLY file")?;
     let mesh = parse_ply(&bytes, path)?;
     Ok(mesh)
 }
@@ -195,12 +211,17 @@ pub fn load_ply(path: &Path) -> Result<MeshData> {
 pub fn parse_ply(bytes: &[u8], path: &Path) -> Result<MeshData> {
     let err = |m: String| PrismError::format(path, m);
     let mut reader = Reader::new(Cursor::new(bytes));
-    let header: Header =
-        Parser::<Skip>::new().read_header(&mut reader).map_err(|e| err(format!("bad PLY header: {}", one_line(&e))))?;
+    let header: Header = Parser::<Skip>::new()
+        .read_header(&mut reader)
+        .map_err(|e| err(format!("bad PLY header: {}", header_error(&e))))?;
     let after_header = bytes.len() as u64 - reader.get_ref().position();
     // Everything the header declares must fit in the bytes that follow it, before anything is allocated.
     let mut needed: u64 = 0;
     for e in header.elements.values() {
+        // An element without properties takes no bytes, so its count is bounded by nothing the file holds.
+        if e.properties.is_empty() && e.count > 0 {
+            return Err(err(format!("the `{}` element has no properties but a count of {}", e.name, e.count)));
+        }
         let per = min_element_bytes(e, header.encoding);
         needed = (e.count as u64).checked_mul(per).and_then(|b| needed.checked_add(b)).unwrap_or(u64::MAX);
     }

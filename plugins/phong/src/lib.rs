@@ -37,7 +37,7 @@
 //! | parameter | default | meaning |
 //! |---|---|---|
 //! | `max_depth` | 5 | mirror and refraction bounces followed (at most 64); the 6.837 option `-bounces` |
-//! | `light_samples` | 4 | stratified samples per area light and shading point (at least 1) |
+//! | `light_samples` | 4 | stratified samples per area light and shading point (1 to 4096) |
 //! | `shadows` | `true` | trace shadow rays; `false` lights every point as if unoccluded (the 6.837 default, option `-shadows`) |
 //! | `min_weight` | 0 | a mirror or refraction branch is not followed once the product of the reflective or transparent colours along the path (largest channel) is below it (option `-weight`); non-negative |
 //! | `shade_back` | `None` | `Some(true)` or `Some(false)` shades back faces or not for every material, overriding `two_sided` (option `-shade_back`) |
@@ -53,7 +53,7 @@
 //!   render still stops at once; `min_weight` prunes dim branches.
 //! - Caustics and indirect light are missing by construction; use `envlight` or `ppm`.
 //! - Environment light reaches surfaces only through mirrors and glass, never as direct light.
-//! - Bad parameters (`light_samples: 0`, `max_depth` above 64, a negative or non-finite `min_weight`, unknown fields)
+//! - Bad parameters (`light_samples` outside 1 to 4096, `max_depth` above 64, a negative or non-finite `min_weight`, unknown fields)
 //!   are one-line errors naming the parameter.
 
 use glam::Vec3;
@@ -89,6 +89,10 @@ impl Default for PhongParams {
     }
 }
 
+/// Most samples per area light and shading point (`light_samples`): 64 x 64 strata.
+pub const MAX_LIGHT_SAMPLES: u32 = 4096;
+
+/// Registers `phong`.
 pub struct PhongPlugin;
 
 impl Plugin for PhongPlugin {
@@ -113,8 +117,11 @@ pub struct Phong {
 
 impl Phong {
     pub fn new(params: PhongParams) -> Result<Self> {
-        if params.light_samples == 0 {
-            return Err(PrismError::invalid("phong: light_samples must be at least 1"));
+        if params.light_samples == 0 || params.light_samples > MAX_LIGHT_SAMPLES {
+            return Err(PrismError::invalid(format!(
+                "phong: light_samples must be between 1 and {MAX_LIGHT_SAMPLES}, got {}",
+                params.light_samples
+            )));
         }
         if params.max_depth > 64 {
             return Err(PrismError::invalid("phong: max_depth must be at most 64"));
@@ -164,10 +171,17 @@ impl Phong {
         let mut sum = Vec3::ZERO;
         let ns = bsdf.normal();
         for i in 0..scene.lights.len() {
+            // Many lights, or many samples of each, make one shading point long: a cancelled render stops here too.
+            if scene.cancelled() {
+                return sum;
+            }
             let n = if scene.lights.is_delta(i) { 1 } else { self.params.light_samples };
             let key = rng.next_u32();
             let mut acc = Vec3::ZERO;
             for k in 0..n {
+                if k % 256 == 255 && scene.cancelled() {
+                    return sum;
+                }
                 let u = stratified_2d(k, n, key, rng);
                 let Some(ls) = scene.lights.sample_li(i, &scene.prims, s.p, u) else {
                     continue;

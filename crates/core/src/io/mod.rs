@@ -5,7 +5,7 @@ mod files;
 mod image_read;
 mod output_check;
 
-pub use files::{file_kind, open_regular, read_regular, read_regular_text};
+pub use files::{file_kind, open_regular, read_regular, read_regular_text, restrict_reads};
 pub use image_read::{read_exr_bytes, read_exr_file, read_exr_from, read_hdr_bytes, read_hdr_file, read_hdr_from};
 pub use output_check::{check_outputs, check_writable_dir, same_file};
 
@@ -67,8 +67,16 @@ fn temp_path(path: &Path) -> PathBuf {
     }
 }
 
-fn finish(tmp: &Path, path: &Path) -> Result<()> {
-    std::fs::rename(tmp, path).map_err(|e| PrismError::io(path, e))
+/// Write `path` through its temporary file: `write` fills the temporary file, which is then renamed into place. On
+/// any failure (a full disk, a file too large, an encoder's error, the rename) the temporary file is removed, so a
+/// failed write leaves neither a half-written output nor a `.partial` file beside it.
+fn write_via_temp(path: &Path, write: impl FnOnce(&Path) -> Result<()>) -> Result<()> {
+    let tmp = temp_path(path);
+    let done = write(&tmp).and_then(|()| std::fs::rename(&tmp, path).map_err(|e| PrismError::io(path, e)));
+    if done.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    done
 }
 
 /// True for `.prism-film` paths (film files, not images).
@@ -78,9 +86,7 @@ pub fn is_film_path(path: &Path) -> bool {
 
 /// Write bytes to `path` through a temporary file renamed into place (never a half-written file).
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
-    let tmp = temp_path(path);
-    std::fs::write(&tmp, bytes).map_err(|e| PrismError::io(path, e))?;
-    finish(&tmp, path)
+    write_via_temp(path, |tmp| std::fs::write(tmp, bytes).map_err(|e| PrismError::io(path, e)))
 }
 
 /// Write `img` to `path`; the format follows the extension (`.exr` linear, `.png` sRGB after `exposure` stops,
@@ -119,9 +125,7 @@ pub fn write_tga(path: &Path, img: &Image) -> Result<()> {
     for p in &img.pixels {
         buf.extend_from_slice(&[course_byte(p.z), course_byte(p.y), course_byte(p.x)]);
     }
-    let tmp = temp_path(path);
-    std::fs::write(&tmp, &buf).map_err(|e| PrismError::io(path, e))?;
-    finish(&tmp, path)
+    write_via_temp(path, |tmp| std::fs::write(tmp, &buf).map_err(|e| PrismError::io(path, e)))
 }
 
 /// Write `img` as a 32-bit float RGB OpenEXR file (written to a temporary file and renamed). The blocks are
@@ -130,18 +134,18 @@ pub fn write_tga(path: &Path, img: &Image) -> Result<()> {
 /// compression finishes).
 pub fn write_exr(path: &Path, img: &Image) -> Result<()> {
     use exr::prelude::{Encoding, LineOrder, SpecificChannels, WritableImage};
-    let tmp = temp_path(path);
     let w = img.width as usize;
     let channels = SpecificChannels::rgb(|exr::math::Vec2(x, y): exr::math::Vec2<usize>| {
         let p = img.pixels[y * w + x];
         (p.x, p.y, p.z)
     });
     let encoding = Encoding { line_order: LineOrder::Increasing, ..Encoding::default() };
-    exr::image::Image::from_encoded_channels((w, img.height as usize), encoding, channels)
-        .write()
-        .to_file(&tmp)
-        .map_err(|e| PrismError::format(path, format!("cannot write EXR: {e}")))?;
-    finish(&tmp, path)
+    write_via_temp(path, |tmp| {
+        exr::image::Image::from_encoded_channels((w, img.height as usize), encoding, channels)
+            .write()
+            .to_file(tmp)
+            .map_err(|e| PrismError::format(path, format!("cannot write EXR: {e}")))
+    })
 }
 
 /// The sRGB transfer function (IEC 61966-2-1) of a linear value in [0, 1].
@@ -167,10 +171,30 @@ pub fn write_png(path: &Path, img: &Image, exposure: f32) -> Result<()> {
             buf.push((linear_to_srgb(v) * 255.0 + 0.5) as u8);
         }
     }
-    let tmp = temp_path(path);
-    image::save_buffer_with_format(&tmp, &buf, img.width, img.height, image::ColorType::Rgb8, image::ImageFormat::Png)
-        .map_err(|e| PrismError::format(path, format!("cannot write PNG: {e}")))?;
-    finish(&tmp, path)
+    write_via_temp(path, |tmp| {
+        image::save_buffer_with_format(
+            tmp,
+            &buf,
+            img.width,
+            img.height,
+            image::ColorType::Rgb8,
+            image::ImageFormat::Png,
+        )
+        .map_err(|e| PrismError::format(path, format!("cannot write PNG: {e}")))
+    })
+}
+
+/// Decode an image through the image crate after checking the size its header claims against Prism's input cap
+/// ([`crate::limits::check_input_image_size`]): a small file claiming a huge image is refused before any pixel is
+/// allocated. The error is the message alone (the caller names the file).
+pub fn decode_checked<R: std::io::BufRead + std::io::Seek>(
+    reader: image::ImageReader<R>,
+) -> std::result::Result<image::DynamicImage, String> {
+    use image::ImageDecoder;
+    let decoder = reader.into_decoder().map_err(|e| e.to_string())?;
+    let (w, h) = decoder.dimensions();
+    crate::limits::check_input_image_size(w as u64, h as u64)?;
+    image::DynamicImage::from_decoder(decoder).map_err(|e| e.to_string())
 }
 
 /// Read an EXR (linear), Radiance HDR (linear) or PNG (sRGB, converted to linear) image. Sizes claimed by a
@@ -188,7 +212,9 @@ pub fn read_image(path: &Path) -> Result<Image> {
             limits.max_image_width = Some(crate::limits::MAX_INPUT_IMAGE_SIDE);
             limits.max_image_height = Some(crate::limits::MAX_INPUT_IMAGE_SIDE);
             reader.limits(limits);
-            let img = reader.decode().map_err(|e| PrismError::format(path, format!("cannot read PNG: {e}")))?.to_rgb8();
+            let img = decode_checked(reader)
+                .map_err(|e| PrismError::format(path, format!("cannot read PNG: {e}")))?
+                .to_rgb8();
             let (w, h) = img.dimensions();
             let pixels = img
                 .pixels()

@@ -39,6 +39,20 @@ impl Primitives {
         meshes: &MeshStore,
         label: impl Fn(usize) -> String,
     ) -> Result<(Self, Vec<(usize, EntityPrims)>)> {
+        // Counted before anything is made: a mesh placed by many entities is copied into world space once per use.
+        let total = shapes.iter().fold(0u64, |n, s| {
+            n.saturating_add(match s.shape {
+                Shape::Mesh(h) => meshes.get(*h).indices.len() as u64,
+                _ => 1,
+            })
+        });
+        if total > crate::limits::MAX_PRIMITIVES {
+            return Err(PrismError::invalid(format!(
+                "the scene has {total} primitives once every mesh is placed (instances count once per use), more \
+                 than Prism holds ({})",
+                crate::limits::MAX_PRIMITIVES
+            )));
+        }
         let mut prims = Primitives::default();
         let mut emitters = Vec::new();
         for (index, item) in shapes.iter().enumerate() {

@@ -140,7 +140,8 @@ impl TexImage {
         limits.max_image_width = Some(MAX_TEXTURE_SIZE);
         limits.max_image_height = Some(MAX_TEXTURE_SIZE);
         reader.limits(limits);
-        let img = reader.decode().map_err(|e| PrismError::format(what, format!("cannot decode texture image: {e}")))?;
+        let img = crate::io::decode_checked(reader)
+            .map_err(|e| PrismError::format(what, format!("cannot decode texture image: {e}")))?;
         if img.width() == 0 || img.height() == 0 {
             return Err(PrismError::format(what, "texture has no pixels"));
         }

@@ -57,6 +57,24 @@ pub fn uri_bytes(uri: &str, base: Option<&Path>, what: &str, file: &Path) -> Res
     prism_core::io::read_regular(&path, "file").map_err(|e| err(format!("cannot read {}: {e}", path.display())))
 }
 
+/// The files a glTF document reads beside itself: its buffers' and images' URIs that are not `data:` URIs, resolved
+/// against `base` (the scene's inputs, which no output may overwrite).
+pub fn external_files(doc: &gltf::Document, base: &Path) -> Vec<PathBuf> {
+    let buffers = doc.buffers().filter_map(|b| match b.source() {
+        gltf::buffer::Source::Uri(uri) => Some(uri),
+        gltf::buffer::Source::Bin => None,
+    });
+    let images = doc.images().filter_map(|i| match i.source() {
+        gltf::image::Source::Uri { uri, .. } => Some(uri),
+        gltf::image::Source::View { .. } => None,
+    });
+    buffers
+        .chain(images)
+        .filter(|uri| !uri.starts_with("data:") && !uri.contains("://"))
+        .map(|uri| base.join(percent_decode(uri)))
+        .collect()
+}
+
 impl Buffers {
     /// Load every buffer; each must hold at least its declared `byteLength`.
     pub fn load(doc: &gltf::Document, blob: Option<Vec<u8>>, base: Option<&Path>, file: &Path) -> Result<Self> {

@@ -68,6 +68,9 @@ pub struct Materials<'a> {
     pub warnings: BTreeSet<String>,
 }
 
+/// The first bytes of every KTX2 file.
+const KTX2_MAGIC: &[u8] = &[0xAB, b'K', b'T', b'X', b' ', b'2', b'0', 0xBB, b'\r', b'\n', 0x1A, b'\n'];
+
 fn image_what(img: &gltf::Image) -> String {
     match (img.name(), img.source()) {
         (Some(n), _) => format!("image {} '{n}'", img.index()),
@@ -92,26 +95,34 @@ impl<'a> Materials<'a> {
         }
     }
 
-    fn decoded(&mut self, img: &gltf::Image) -> Result<Arc<image::DynamicImage>> {
+    /// The decoded image, or `None` for a KTX2 texture (not decoded: the material keeps its factor, with a warning).
+    fn decoded(&mut self, img: &gltf::Image) -> Result<Option<Arc<image::DynamicImage>>> {
         if let Some(d) = self.decoded.get(&img.index()) {
-            return Ok(d.clone());
+            return Ok(Some(d.clone()));
         }
         let what = image_what(img);
         let bytes = match img.source() {
             gltf::image::Source::View { view, .. } => self.buffers.view(&view, &what, &self.file)?.to_vec(),
             gltf::image::Source::Uri { uri, .. } => uri_bytes(uri, self.base.as_deref(), &what, &self.file)?,
         };
+        if bytes.starts_with(KTX2_MAGIC) {
+            self.warnings.insert(format!(
+                "{what} is a KTX2 (Basis Universal) texture, which Prism does not decode: its materials use their \
+                 factors alone"
+            ));
+            return Ok(None);
+        }
         let label = PathBuf::from(format!("{}: {what}", self.file.display()));
         let d = Arc::new(TexImage::decode_bytes(&bytes, &label)?);
         self.decoded.insert(img.index(), d.clone());
-        Ok(d)
+        Ok(Some(d))
     }
 
     fn image(&mut self, img: &gltf::Image, v: Variant) -> Result<Option<Arc<TexImage>>> {
         if let Some(t) = self.variants.get(&(img.index(), v)) {
             return Ok(Some(t.clone()));
         }
-        let d = self.decoded(img)?;
+        let Some(d) = self.decoded(img)? else { return Ok(None) };
         let t = match v {
             Variant::Srgb => TexImage::from_dynamic(&d, false),
             Variant::Raw => TexImage::from_dynamic(&d, true),

@@ -68,7 +68,7 @@ struct Loader<'a> {
 
 /// Load a glTF file into the world.
 pub fn load_gltf(path: &Path, world: &mut World, res: &mut Resources) -> Result<FileSettings> {
-    let bytes = std::fs::read(path).map_err(|e| PrismError::io(path, e))?;
+    let bytes = prism_core::io::read_regular(path, "glTF file")?;
     load_gltf_bytes(&bytes, path, Some(path.parent().unwrap_or(Path::new("."))), world, res)
 }
 
@@ -83,11 +83,23 @@ pub fn load_gltf_bytes(
 ) -> Result<FileSettings> {
     // A GLB header whose total length is below the header's own 12 bytes makes the gltf crate subtract with
     // overflow (a panic with overflow checks; fuzzing).
-    if bytes.starts_with(b"glTF")
-        && bytes.len() >= 12
-        && u32::from_le_bytes([bytes[8], bytes[9], bytes[10], bytes[11]]) < 12
-    {
-        return Err(PrismError::format(path, "GLB header: the file length it states is below the header's 12 bytes"));
+    if bytes.starts_with(b"glTF") && bytes.len() >= 12 {
+        let stated = u32::from_le_bytes([bytes[8], bytes[9], bytes[10], bytes[11]]) as u64;
+        if stated < 12 {
+            return Err(PrismError::format(
+                path,
+                "GLB header: the file length it states is below the header's 12 bytes",
+            ));
+        }
+        if stated != bytes.len() as u64 {
+            return Err(PrismError::format(
+                path,
+                format!(
+                    "GLB header: the file length it states ({stated} bytes) is not the file's ({} bytes)",
+                    bytes.len()
+                ),
+            ));
+        }
     }
     let g = gltf::Gltf::from_slice_without_validation(bytes).map_err(|e| gltf_error(e, path))?;
     let doc = g.document;
@@ -102,6 +114,9 @@ pub fn load_gltf_bytes(
     let json = doc.clone().into_json();
     check_before_validation(&json, path)?;
     let validated = gltf::Document::from_json(json).map_err(|e| gltf_error(e, path))?;
+    if let Some(base) = base {
+        res.inputs.extend(data::external_files(&validated, base));
+    }
     let buffers = Buffers::load(&validated, g.blob, base, path)?;
     let mut l = Loader {
         file: path,
@@ -170,6 +185,11 @@ fn gltf_error(e: gltf::Error, path: &Path) -> PrismError {
     }
 }
 
+/// Most node instances a glTF scene may expand to (a node shared by several parents counts once per path).
+pub const MAX_NODE_INSTANCES: u64 = 1 << 20;
+/// Most bytes the accessors without a buffer view may decode to, together.
+pub const MAX_UNBACKED_ACCESSOR_BYTES: u64 = 256 << 20;
+
 fn node_label(n: &gltf::Node) -> String {
     match n.name() {
         Some(s) => format!("node {} '{s}'", n.index()),
@@ -198,6 +218,12 @@ impl Loader<'_> {
         let local = Mat4::from_cols_array_2d(&n.transform().matrix());
         if !local.is_finite() {
             return Err(self.err(format!("{label}: the transform is not finite")));
+        }
+        if local.row(3) != glam::Vec4::W {
+            return Err(self.err(format!(
+                "{label}: the matrix's bottom row is {:?}, not [0, 0, 0, 1] (glTF node matrices are affine)",
+                local.row(3).to_array()
+            )));
         }
         if local.determinant() == 0.0 {
             self.warnings.insert(format!("{label}: a transform with zero scale hides the node and its children"));
@@ -506,6 +532,8 @@ fn check_before_validation(json: &gltf::json::Root, path: &Path) -> Result<()> {
             return Err(PrismError::format(path, format!("image {i} {p}")));
         }
     }
+    check_accessor_sizes(json, path)?;
+    check_node_instances(json, path)?;
     let n = json.accessors.len();
     for (m, mesh) in json.meshes.iter().enumerate() {
         for (k, prim) in mesh.primitives.iter().enumerate() {
@@ -517,6 +545,65 @@ fn check_before_validation(json: &gltf::json::Root, path: &Path) -> Result<()> {
                 ));
             }
         }
+    }
+    Ok(())
+}
+
+/// Bytes of the accessors that no buffer view backs (sparse ones without a base, which decode to zeros plus their
+/// sparse values): what a small file can make the reader allocate. Accessors backed by a buffer view are bounded
+/// by the buffers, which are read whole and checked for size.
+fn check_accessor_sizes(json: &gltf::json::Root, path: &Path) -> Result<()> {
+    let mut unbacked: u64 = 0;
+    for (i, a) in json.accessors.iter().enumerate() {
+        use gltf::json::validation::Checked;
+        let (Checked::Valid(t), Checked::Valid(c)) = (&a.type_, &a.component_type) else { continue };
+        let (components, size) = (t.multiplicity() as u64, c.0.size() as u64);
+        let bytes = a.count.0.saturating_mul(components).saturating_mul(size);
+        if a.buffer_view.is_none() {
+            unbacked = unbacked.saturating_add(bytes);
+        }
+        if unbacked > MAX_UNBACKED_ACCESSOR_BYTES {
+            return Err(PrismError::format(
+                path,
+                format!(
+                    "accessor {i}: accessors without a buffer view would decode to {unbacked} bytes, more than Prism \
+                     reads ({MAX_UNBACKED_ACCESSOR_BYTES})"
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// The node instances the default scene expands to: a node listed under several parents (or several times under
+/// one) is instanced once per path from a root, so a small file of shared nodes can describe exponentially many.
+/// Counted before anything is spawned.
+fn check_node_instances(json: &gltf::json::Root, path: &Path) -> Result<()> {
+    fn count(json: &gltf::json::Root, node: usize, depth: usize, memo: &mut HashMap<usize, u64>) -> u64 {
+        if let Some(&c) = memo.get(&node) {
+            return c;
+        }
+        // Deeper than the loader nests is an error there (a cycle, most likely); count it as one.
+        let Some(n) = json.nodes.get(node).filter(|_| depth <= 256) else { return 1 };
+        let mut c: u64 = 1;
+        for child in n.children.iter().flatten() {
+            c = c.saturating_add(count(json, child.value(), depth + 1, memo));
+        }
+        memo.insert(node, c);
+        c
+    }
+    let scene = json.scene.map(|s| s.value()).unwrap_or(0);
+    let Some(roots) = json.scenes.get(scene) else { return Ok(()) };
+    let mut memo = HashMap::new();
+    let total = roots.nodes.iter().fold(0u64, |t, r| t.saturating_add(count(json, r.value(), 0, &mut memo)));
+    if total > MAX_NODE_INSTANCES {
+        return Err(PrismError::format(
+            path,
+            format!(
+                "the scene's node graph expands to {total} node instances (nodes listed under several parents), \
+                 more than Prism instances ({MAX_NODE_INSTANCES})"
+            ),
+        ));
     }
     Ok(())
 }

@@ -111,6 +111,10 @@ pub struct Converter {
     pub environment: Option<super::lights::EnvSpec>,
     pub counter: usize,
     include_depth: usize,
+    /// Files included so far (every `Include` and `Import`, nested ones too).
+    includes: usize,
+    /// Bytes of object descriptions copied by `ObjectInstance` so far.
+    instanced_bytes: usize,
 }
 
 impl Converter {
@@ -141,6 +145,8 @@ impl Converter {
             environment: None,
             counter: 0,
             include_depth: 0,
+            includes: 0,
+            instanced_bytes: 0,
         };
         c.materials.insert("default".into(), "Lambert(albedo: 0.5)".into());
         c.material = "default".into();
@@ -190,12 +196,6 @@ impl Converter {
             ));
         }
         prism_core::io::read_regular_text(path, what)
-    }
-
-    /// Run the directives of one file.
-    pub fn run_file(&mut self, path: &Path) -> Result<()> {
-        let text = self.read_text(path, "included file")?;
-        self.run_text(&text, path)
     }
 
     /// Run the directives of scene text; `file` names it in errors.
@@ -356,6 +356,20 @@ impl Converter {
                 let Some(children) = self.objects.get(&n) else {
                     return Err(perr(&pos, format!("ObjectInstance: unknown object \"{n}\"")));
                 };
+                // Each instance copies its object's description (an object may instance others), so copies are
+                // counted before they are made: objects instancing each other twice per level would double them.
+                let bytes: usize = children.iter().map(String::len).sum();
+                self.instanced_bytes = self.instanced_bytes.saturating_add(bytes);
+                if self.instanced_bytes > MAX_INSTANCED_BYTES {
+                    return Err(perr(
+                        &pos,
+                        format!(
+                            "ObjectInstance \"{n}\": the instances expand to more than {} MiB of scene description \
+                             (objects instancing others; each instance is a copy)",
+                            MAX_INSTANCED_BYTES >> 20
+                        ),
+                    ));
+                }
                 let text = format!(
                     "(name: {}, transform: [{}], children: [\n{}\n])",
                     quote(&format!("{}:{} instance {n}", short(file), pos.line)),
@@ -367,14 +381,17 @@ impl Converter {
             "Include" | "Import" => {
                 let f = string(tokens, i, name, &pos)?;
                 let path = self.resolve(&f);
-                if !self.read_files || !path.is_file() {
-                    return Err(perr(&pos, format!("{name}: file not found: {}", path.display())));
-                }
                 if self.include_depth >= 32 {
                     return Err(perr(&pos, format!("{name}: files included more than 32 deep (a cycle?)")));
                 }
+                self.includes += 1;
+                if self.includes > MAX_INCLUDES {
+                    return Err(perr(&pos, format!("{name}: more than {MAX_INCLUDES} files included in all")));
+                }
+                // A missing, unreadable or irregular file (a directory, a pipe, a device) is an error naming it.
+                let text = self.read_text(&path, "included file").map_err(|e| perr(&pos, format!("{name}: {e}")))?;
                 self.include_depth += 1;
-                self.run_file(&path)?;
+                self.run_text(&text, &path)?;
                 self.include_depth -= 1;
             }
             "Camera" | "Film" | "Sampler" | "Integrator" | "SurfaceIntegrator" | "PixelFilter" | "Accelerator"
@@ -457,9 +474,7 @@ impl Converter {
                 }
                 self.warn("MediumInterface is ignored (participating media are not supported)");
             }
-            other => {
-                return Err(perr(&pos, format!("unknown directive `{other}`")));
-            }
+            other => return Err(perr(&pos, unknown_directive(other))),
         }
         Ok(())
     }
@@ -555,4 +570,83 @@ pub fn look_at(eye: DVec3, at: DVec3, up: DVec3) -> Option<DMat4> {
     let new_up = dir.cross(right);
     let world_from_camera = DMat4::from_cols(right.extend(0.0), new_up.extend(0.0), dir.extend(0.0), eye.extend(1.0));
     Some(world_from_camera.inverse())
+}
+
+/// Most bytes of object descriptions `ObjectInstance` may copy in all.
+pub const MAX_INSTANCED_BYTES: usize = 256 << 20;
+
+/// Most files a pbrt scene may include in all (`Include` and `Import`, nested ones counted each time): a few files
+/// that include each other several times would otherwise describe exponentially many shapes.
+pub const MAX_INCLUDES: usize = 10_000;
+
+/// pbrt-v3's and pbrt-v4's directives.
+const DIRECTIVES: [&str; 40] = [
+    "Accelerator",
+    "ActiveTransform",
+    "AreaLightSource",
+    "Attribute",
+    "AttributeBegin",
+    "AttributeEnd",
+    "Camera",
+    "ColorSpace",
+    "ConcatTransform",
+    "CoordinateSystem",
+    "CoordSysTransform",
+    "Film",
+    "Identity",
+    "Import",
+    "Include",
+    "Integrator",
+    "LightSource",
+    "LookAt",
+    "MakeNamedMaterial",
+    "MakeNamedMedium",
+    "Material",
+    "MediumInterface",
+    "NamedMaterial",
+    "ObjectBegin",
+    "ObjectEnd",
+    "ObjectInstance",
+    "Option",
+    "PixelFilter",
+    "ReverseOrientation",
+    "Rotate",
+    "Sampler",
+    "Scale",
+    "Shape",
+    "SurfaceIntegrator",
+    "Texture",
+    "Transform",
+    "TransformBegin",
+    "TransformEnd",
+    "TransformTimes",
+    "Translate",
+];
+
+/// The message for a word where a directive should be: the word is named only when it is within two edits of a
+/// directive (a typo of the scene's own), so a file that is no pbrt scene is never quoted.
+fn unknown_directive(word: &str) -> String {
+    let near = DIRECTIVES.iter().map(|d| (edit_distance(word, d), *d)).min();
+    match near {
+        Some((d, directive)) if d <= 2 && word.len() <= 32 => {
+            format!("unknown directive `{word}` (did you mean `{directive}`?)")
+        }
+        _ => "expected a pbrt directive here (is this file a pbrt scene?)".into(),
+    }
+}
+
+/// Levenshtein distance of two short strings.
+fn edit_distance(a: &str, b: &str) -> usize {
+    let (a, b): (Vec<char>, Vec<char>) = (a.chars().take(64).collect(), b.chars().collect());
+    let mut row: Vec<usize> = (0..=b.len()).collect();
+    for (i, ca) in a.iter().enumerate() {
+        let mut prev = row[0];
+        row[0] = i + 1;
+        for (j, cb) in b.iter().enumerate() {
+            let cur = row[j + 1];
+            row[j + 1] = (prev + (ca != cb) as usize).min(row[j] + 1).min(cur + 1);
+            prev = cur;
+        }
+    }
+    row[b.len()] + a.len().saturating_sub(64)
 }

@@ -1,6 +1,7 @@
 //! pbrt's tokens: bare words (directives, `true`/`false`), quoted strings, numbers and brackets, with `#`
 //! comments to the end of the line. Every token keeps its file, line and column for errors.
 
+use prism_core::error::token_in_message;
 use prism_core::error::{PrismError, Result, SourcePos};
 use std::path::Path;
 
@@ -24,8 +25,11 @@ impl Token {
     /// What the token is, for messages.
     pub fn describe(&self) -> String {
         match &self.tok {
-            Tok::Word(w) => format!("`{w}`"),
-            Tok::Str(s) => format!("\"{s}\""),
+            Tok::Word(w) => token_in_message(w),
+            Tok::Str(s) => match token_in_message(s) {
+                t if t.starts_with('`') => format!("the string \"{s}\""),
+                _ => "a quoted string".into(),
+            },
             Tok::Num(n) => format!("{n}"),
             Tok::Open => "`[`".into(),
             Tok::Close => "`]`".into(),
@@ -117,7 +121,7 @@ pub fn tokenize(text: &str, file: &Path) -> Result<Vec<Token>> {
                         _ => {
                             return Err(PrismError::Parse {
                                 pos: pos(file, tl, tc),
-                                message: format!("`{word}` is not a number"),
+                                message: format!("{} is not a number", token_in_message(&word)),
                             });
                         }
                     }

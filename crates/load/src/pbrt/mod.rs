@@ -97,7 +97,7 @@ pub fn convert_file(path: &Path, ron_dir: &Path) -> Result<Converted> {
     if !path.is_file() {
         return Err(PrismError::io(path, std::io::Error::new(std::io::ErrorKind::NotFound, "scene file not found")));
     }
-    let text = std::fs::read_to_string(path).map_err(|e| PrismError::io(path, e))?;
+    let text = prism_core::io::read_regular_text(path, "pbrt file")?;
     let search_dir = path.parent().unwrap_or(Path::new("."));
     convert_text(&text, path, Some(search_dir), ron_dir)
 }

@@ -311,6 +311,14 @@ impl Params {
                 if v.is_empty() || (v.len() > 1 && v.len() % 2 != 0) {
                     return Err(err(&p.pos, format!("parameter \"blackbody {}\": give a temperature", p.name)));
                 }
+                // A temperature (every value for pbrt-v4, the first of each pair for pbrt-v3) is in kelvin: above 0.
+                let temperatures = v.iter().step_by(if v.len() == 1 { 1 } else { 2 });
+                if let Some(t) = temperatures.copied().find(|t| !(t.is_finite() && *t > 0.0)) {
+                    return Err(err(
+                        &p.pos,
+                        format!("parameter \"blackbody {}\": the temperature {t} K is not above 0", p.name),
+                    ));
+                }
                 SpectrumParam::Blackbody(v.clone())
             }
             ("spectrum", Values::Nums(v)) => {

@@ -48,13 +48,25 @@ struct NodeInput {
     /// Global primitive ids.
     ids: Vec<u32>,
     events: [Vec<Event>; 3],
+    /// References the subtree may hold: the root's [`REFERENCE_BUDGET`] times the primitives, shared between the
+    /// children of every split in proportion to what each receives.
+    budget: u64,
 }
+
+/// References a kd-tree may hold per primitive, at most. Splits duplicate the primitives that straddle their plane;
+/// where most straddle every plane (the slivers of a fan-triangulated polygon, which all meet at one vertex) the SAH
+/// keeps accepting splits and the references grow geometrically with depth (558 per primitive on a 10,000-triangle
+/// fan). A split that would exceed its node's share of the budget makes the node a leaf instead; ordinary scenes stay
+/// far below (2 to 4 references per primitive), so their trees do not change.
+pub const REFERENCE_BUDGET: u64 = 8;
 
 #[derive(Clone, Copy, Debug)]
 struct Split {
     axis: usize,
     pos: f32,
     planar_left: bool,
+    /// Primitives on each side (straddling ones on both).
+    counts: (u32, u32),
 }
 
 struct Ctx<'a> {
@@ -94,7 +106,8 @@ pub fn build_tree(prims: &Primitives, root: Bounds, params: KdParams) -> KdTreeD
     use rayon::prelude::*;
     events.par_iter_mut().for_each(|e| e.sort_unstable_by(event_order));
     let mut out = Out::default();
-    build_node(&ctx, NodeInput { voxel: root, ids, events }, 0, &mut out);
+    let budget = (n as u64).saturating_mul(REFERENCE_BUDGET).max(1);
+    build_node(&ctx, NodeInput { voxel: root, ids, events, budget }, 0, &mut out);
     KdTreeData { nodes: out.nodes, prims: out.prims, max_depth: out.max_depth }
 }
 
@@ -112,6 +125,7 @@ fn push_events(b: &Bounds, local: u32, events: &mut [Vec<Event>; 3]) {
 fn build_node(ctx: &Ctx, node: NodeInput, depth: u32, out: &mut Out) {
     let n = node.ids.len();
     let split = if n as u32 > ctx.params.max_leaf && depth < ctx.max_depth { find_plane(ctx, &node) } else { None };
+    let split = split.filter(|s| s.counts.0 as u64 + s.counts.1 as u64 <= node.budget);
     let Some(split) = split else {
         out.nodes.push(KdNode::leaf(out.prims.len() as u32, n as u32));
         out.prims.extend_from_slice(&node.ids);
@@ -199,7 +213,7 @@ fn find_plane(ctx: &Ctx, node: &NodeInput) -> Option<Split> {
                     let bonus = if a == 0 || b == 0 { p.empty_bonus } else { 1.0 };
                     let cost = bonus * (p.traversal_cost + p.intersection_cost * (pl * a as f32 + pr * b as f32));
                     if best.is_none_or(|(c, _)| cost < c) {
-                        best = Some((cost, Split { axis, pos, planar_left }));
+                        best = Some((cost, Split { axis, pos, planar_left, counts: (a, b) }));
                     }
                 }
             }
@@ -276,7 +290,13 @@ fn partition(ctx: &Ctx, node: NodeInput, s: Split) -> (NodeInput, NodeInput) {
         ev_l[axis] = merge(only_l, nl);
         ev_r[axis] = merge(only_r, nr);
     }
-    (NodeInput { voxel: vl, ids: ids_l, events: ev_l }, NodeInput { voxel: vr, ids: ids_r, events: ev_r })
+    // The children share the node's budget in proportion to what each holds.
+    let (l, r) = (ids_l.len() as u64, ids_r.len() as u64);
+    let budget_l = if l + r == 0 { 0 } else { (node.budget as u128 * l as u128 / (l + r) as u128) as u64 };
+    (
+        NodeInput { voxel: vl, ids: ids_l, events: ev_l, budget: budget_l },
+        NodeInput { voxel: vr, ids: ids_r, events: ev_r, budget: node.budget - budget_l },
+    )
 }
 
 /// Merge two sorted event lists.
