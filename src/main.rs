@@ -12,8 +12,10 @@ fn main() -> ExitCode {
             let _ = e.print();
             return ExitCode::SUCCESS;
         }
+        // No subcommand: the help, then the error line every failure ends with.
         Err(e) if e.kind() == ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => {
             let _ = e.print();
+            eprintln!("error: no command given (see the list above, or `prism render --help`)");
             return ExitCode::FAILURE;
         }
         // A usage error as one line: clap's message up to its usage notes.

@@ -277,7 +277,13 @@ fn pbrt_error(text: &str, line_col: &str, needle: &str) {
 #[test]
 fn malformed_pbrt_files_are_one_line_errors_with_file_line_and_column() {
     let w = "LookAt 0 0 -5 0 0 0 0 1 0\nCamera \"perspective\"\nWorldBegin\n";
-    pbrt_error(&format!("{w}Shape \"sphere\"\nFrobnicate 1 2\n"), "5:1", "unknown directive `Frobnicate`");
+    pbrt_error(
+        &format!("{w}Shape \"sphere\"\nShpe \"sphere\"\n"),
+        "5:1",
+        "unknown directive `Shpe` (did you mean `Shape`?)",
+    );
+    // A word far from every directive is not quoted: the file may be no pbrt scene at all.
+    pbrt_error(&format!("{w}Shape \"sphere\"\nFrobnicate 1 2\n"), "5:1", "expected a pbrt directive here");
     pbrt_error(
         &format!("{w}AttributeBegin\nAttributeEnd\nAttributeEnd\n"),
         "6:1",

@@ -24,7 +24,7 @@ pub struct Cli {
 
 #[derive(Subcommand, Debug)]
 pub enum Command {
-    /// Render a scene (.ron, .obj or 6.837 .txt) to PNG and/or EXR.
+    /// Render a scene (.ron, .obj, .ply, .gltf/.glb, .pbrt or a 6.837 .txt) to PNG, EXR, TGA and/or a film.
     Render(render_cmd::RenderArgs),
     /// Error against a reference as the budget grows: CSV and charts, one curve per integrator.
     Converge(converge_cmd::ConvergeArgs),
@@ -32,7 +32,7 @@ pub enum Command {
     Bench(bench_cmd::BenchArgs),
     /// Combine the `.prism-film` shards of one render (`render --shard K/N`) into its image, exactly.
     Merge(merge_cmd::MergeArgs),
-    /// Convert a 6.837 scene (.txt) to a Prism RON scene.
+    /// Convert a 6.837 (.txt) or pbrt (.pbrt) scene to the equivalent Prism RON scene.
     Convert(convert_cmd::ConvertArgs),
     /// Run a 6.837 course command line (`-input scene.txt -size 200 200 -output out.tga -grid 5 5 5 ...`).
     Raytracer(raytracer_cmd::RaytracerArgs),
@@ -45,9 +45,9 @@ pub enum Command {
     CurveEditor(tessellate_cmd::CurveEditorArgs),
     /// Compare an image with a reference: RMSE, relMSE, mean absolute error.
     Compare {
-        /// The image to test (.exr or .png).
+        /// The image to test (.exr, .hdr or .png).
         test: PathBuf,
-        /// The reference image (.exr or .png).
+        /// The reference image (.exr, .hdr or .png).
         reference: PathBuf,
         /// Print JSON instead of text.
         #[arg(long)]

@@ -183,6 +183,7 @@ pub fn run(args: RaytracerArgs) -> anyhow::Result<()> {
         resume: None,
         camera: None,
         exact_curves: o.exact_curves,
+        allow_read: vec![],
     };
     if o.stats {
         let mut app = prism_engine::App::with(crate::DefaultPlugins);

@@ -24,7 +24,7 @@ pub struct RenderArgs {
     /// `'debug(mode: grid_cells)'`.
     #[arg(long)]
     pub integrator: Option<String>,
-    /// Accelerator: bvh, kdtree, grid or brute.
+    /// Accelerator: bvh (the default), cwbvh, kdtree, grid or brute.
     #[arg(long, value_parser = parse_accel)]
     pub accel: Option<AccelKind>,
     /// Uniform grid resolution NX NY NZ (implies --accel grid).
@@ -37,7 +37,7 @@ pub struct RenderArgs {
     /// the adaptive pilot's own pass).
     #[arg(long)]
     pub passes: Option<u32>,
-    /// Time budget in seconds: stop after the pass that crosses it (unlimited samples unless --spp is given).
+    /// Time budget in seconds: stop when it is spent, cutting the pass then running short (unlimited samples unless --spp is given)
     #[arg(long, allow_negative_numbers = true)]
     pub time: Option<f64>,
     /// Image size, WIDTHxHEIGHT.
@@ -85,6 +85,10 @@ pub struct RenderArgs {
     /// `tessellation`, and the meshes 6.837 assignment 8 scenes name.
     #[arg(long)]
     pub exact_curves: bool,
+    /// Read only files inside this folder (repeatable; symbolic links followed): the scene, everything it references
+    /// and a --resume film. For scenes from untrusted sources; by default every path is read.
+    #[arg(long = "allow-read", value_name = "DIR")]
+    pub allow_read: Vec<PathBuf>,
 }
 
 /// `K/N` with `K < N`.
@@ -149,6 +153,10 @@ pub(super) fn parse_size(s: &str) -> Result<(u32, u32), String> {
     Ok((w, h))
 }
 
+/// Set while a render loads its scene and builds what it renders with (decoding, meshes, the accelerator): nothing
+/// has been rendered yet, so Ctrl-C then exits at once instead of waiting for the set-up to finish.
+static SETTING_UP: AtomicBool = AtomicBool::new(false);
+
 /// The process-wide cancel flag, set by Ctrl-C.
 pub(super) fn cancel_flag() -> Arc<AtomicBool> {
     static FLAG: OnceLock<Arc<AtomicBool>> = OnceLock::new();
@@ -157,6 +165,10 @@ pub(super) fn cancel_flag() -> Arc<AtomicBool> {
         let f = flag.clone();
         // A second Ctrl-C exits at once.
         let _ = ctrlc::set_handler(move || {
+            if SETTING_UP.load(Ordering::SeqCst) {
+                eprintln!("interrupted while setting up: nothing was rendered, no file was written");
+                std::process::exit(130);
+            }
             if f.swap(true, Ordering::SeqCst) {
                 std::process::exit(130);
             }
@@ -167,6 +179,9 @@ pub(super) fn cancel_flag() -> Arc<AtomicBool> {
 }
 
 pub fn run(args: RenderArgs) -> anyhow::Result<()> {
+    if !args.allow_read.is_empty() {
+        prism_core::io::restrict_reads(&args.allow_read)?;
+    }
     if let Some(t) = args.threads {
         prism_core::limits::threads(t)?;
     }
@@ -227,7 +242,13 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
         .build()
         .map_err(|e| PrismError::invalid(format!("cannot start {} threads: {e}", args.threads.unwrap_or(0))))?;
     let t0 = Instant::now();
-    pool.install(|| app.run())?;
+    pool.install(|| {
+        SETTING_UP.store(true, Ordering::SeqCst);
+        let setup = app.setup();
+        SETTING_UP.store(false, Ordering::SeqCst);
+        setup?;
+        app.render()
+    })?;
     let wall = t0.elapsed().as_secs_f64();
     let res = &app.resources;
     let p = &res.progress;
@@ -257,6 +278,16 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
             && f.nonfinite > 0
         {
             eprintln!("warning: {} samples were NaN or infinite and counted as 0", f.nonfinite);
+        }
+    }
+    // Even with -q: a clipped image is a wrong image.
+    if let Some(f) = &res.film {
+        let clipped = f.saturated_pixels();
+        if clipped > 0 {
+            eprintln!(
+                "warning: {clipped} pixels reached the film's range (radiance sums above {:.2e}) and are clipped there",
+                prism_core::film::fixed::MAX_SUM
+            );
         }
     }
     if p.interrupted {

@@ -97,3 +97,14 @@ pub fn printable(s: &str) -> String {
 pub fn warn(message: &str) {
     eprintln!("warning: {}", printable(message));
 }
+
+/// A token of a file for an error message: quoted as is when it is a short word or number (at most 32 of
+/// `A-Z a-z 0-9 _ . + -`: a directive, a field name, a malformed number), otherwise only described by its length.
+/// Messages never carry more of a file than such a token, so an error about a file a scene names (an `Include` of
+/// a file that is no scene) cannot show its lines.
+pub fn token_in_message(s: &str) -> String {
+    let short_word = !s.is_empty()
+        && s.len() <= 32
+        && s.chars().all(|c| c.is_ascii_alphanumeric() || matches!(c, '_' | '.' | '+' | '-'));
+    if short_word { format!("`{s}`") } else { format!("a token of {} characters", s.chars().count()) }
+}

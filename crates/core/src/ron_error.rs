@@ -29,9 +29,26 @@ pub fn describe(code: &ron::Error) -> String {
             "nested too deeply (Prism reads at most {} levels of nested entities)",
             crate::limits::MAX_NESTING_DEPTH
         ),
-        other => rename_types(&other.to_string()),
+        other => {
+            let text = other.to_string();
+            // Serde's word for a value in none of an untagged enum's forms: list the forms instead.
+            match UNTAGGED.iter().find(|(ty, _)| text.contains(&format!("untagged enum {ty}"))) {
+                Some((_, forms)) => format!("expected {forms}"),
+                None => rename_types(&text),
+            }
+        }
     }
 }
+
+/// The schema's untagged enums, with the forms a value of each may take.
+const UNTAGGED: [(&str, &str); 3] = [
+    (
+        "ColorDesc",
+        "a colour: `(r, g, b)`, one number (a grey), `Texture(\"name\")` or `Map(texture: \"name\", scale: ...)`",
+    ),
+    ("ScalarDesc", "a number, `Texture(\"name\")` or `Map(texture: \"name\", channel: R, scale: ...)`"),
+    ("ScaleDesc", "a scale: one number or `(x, y, z)`"),
+];
 
 fn rename_types(s: &str) -> String {
     // Serde names the schema's Rust types (`expected enum AccelDesc`); say what they are in the file instead.

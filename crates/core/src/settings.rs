@@ -175,7 +175,7 @@ pub struct RenderSettings {
     pub adaptive: bool,
     /// Seed of every random number of the render (the same seed and settings give the same image).
     pub seed: u64,
-    /// Stop after the pass that crosses this many seconds.
+    /// Stop when this many seconds of rendering are spent (the pass then running is cut short).
     pub time_budget: Option<f64>,
     /// The rendering method and its parameters.
     pub integrator: PluginConfig,
@@ -282,71 +282,87 @@ impl RenderSettings {
     /// Check the settings against each other and against Prism's limits: image size, sample and pass counts, the
     /// pilot, the time budget, the filter, the exposure and the shard. Errors say which value is wrong.
     pub fn validate(&self) -> Result<()> {
+        self.check().map_err(|(_, message)| PrismError::invalid(message))
+    }
+
+    /// [`RenderSettings::validate`], naming the setting at fault beside the message: `size`, `spp`, `passes`,
+    /// `time`, `filter`, `exposure` or `shard` (so a loader can point at the line of its scene that gave it).
+    pub fn check(&self) -> std::result::Result<(), (&'static str, String)> {
         if self.width == 0 || self.height == 0 {
-            return Err(PrismError::invalid(format!("image size {}x{} is empty", self.width, self.height)));
+            return Err(("size", format!("image size {}x{} is empty", self.width, self.height)));
         }
         if self.width > MAX_IMAGE_SIDE
             || self.height > MAX_IMAGE_SIDE
             || self.width as u64 * self.height as u64 > MAX_IMAGE_PIXELS
         {
-            return Err(PrismError::invalid(format!(
-                "image size {}x{} is too large (at most {MAX_IMAGE_SIDE} per side and {MAX_IMAGE_PIXELS} pixels)",
-                self.width, self.height
-            )));
+            return Err((
+                "size",
+                format!(
+                    "image size {}x{} is too large (at most {MAX_IMAGE_SIDE} per side and {MAX_IMAGE_PIXELS} pixels)",
+                    self.width, self.height
+                ),
+            ));
         }
         if self.spp == Some(0) {
-            return Err(PrismError::invalid("spp must be at least 1"));
+            return Err(("spp", "spp must be at least 1".into()));
         }
         if self.passes == 0 {
-            return Err(PrismError::invalid("passes must be at least 1"));
+            return Err(("passes", "passes must be at least 1".into()));
         }
         if let Some(spp) = self.spp
             && self.passes > spp
         {
-            return Err(PrismError::invalid(format!("{} passes cannot split {spp} samples per pixel", self.passes)));
+            return Err(("passes", format!("{} passes cannot split {spp} samples per pixel", self.passes)));
         }
         if let Some(pilot) = self.pilot_spp {
             let fits = self.spp.is_some_and(|spp| {
                 self.passes > 1 && pilot >= 1 && pilot as u64 + (self.passes - 1) as u64 <= spp as u64
             });
             if !fits {
-                return Err(PrismError::invalid(format!(
-                    "a first pass of {pilot} samples per pixel and {} more passes cannot split {:?} samples per pixel",
-                    self.passes.saturating_sub(1),
-                    self.spp
-                )));
+                return Err((
+                    "passes",
+                    format!(
+                        "a first pass of {pilot} samples per pixel and {} more passes cannot split {:?} samples per \
+                         pixel",
+                        self.passes.saturating_sub(1),
+                        self.spp
+                    ),
+                ));
             }
         }
         if let Some(t) = self.time_budget
             && !(t.is_finite() && t > 0.0 && t <= crate::limits::MAX_SECONDS)
         {
-            return Err(PrismError::invalid(format!(
-                "time budget must be a positive number of seconds (at most {}), got {t}",
-                crate::limits::MAX_SECONDS
-            )));
+            return Err((
+                "time",
+                format!(
+                    "time budget must be a positive number of seconds (at most {}), got {t}",
+                    crate::limits::MAX_SECONDS
+                ),
+            ));
         }
-        self.filter.validate().map_err(PrismError::invalid)?;
+        self.filter.validate().map_err(|m| ("filter", m))?;
         if !(self.exposure.is_finite() && self.exposure.abs() <= MAX_EXPOSURE) {
-            return Err(PrismError::invalid(format!(
-                "exposure must be between -{MAX_EXPOSURE} and {MAX_EXPOSURE} stops, got {}",
-                self.exposure
-            )));
+            return Err((
+                "exposure",
+                format!("exposure must be between -{MAX_EXPOSURE} and {MAX_EXPOSURE} stops, got {}", self.exposure),
+            ));
         }
         let (k, n) = self.shard;
         if n == 0 || k >= n {
-            return Err(PrismError::invalid(format!("--shard {k}/{n}: K must be below N")));
+            return Err(("shard", format!("--shard {k}/{n}: K must be below N")));
         }
         if n > 1 && self.spp.is_none() {
-            return Err(PrismError::invalid("--shard needs a sample count (--spp), not only a time budget"));
+            return Err(("shard", "--shard needs a sample count (--spp), not only a time budget".into()));
         }
         if let Some(spp) = self.spp
             && n > self.passes.min(spp)
             && n > self.height
         {
-            return Err(PrismError::invalid(format!(
-                "--shard {k}/{n}: more shards than passes ({}) and pixel rows ({})",
-                self.passes, self.height
-            )));
+            return Err((
+                "shard",
+                format!("--shard {k}/{n}: more shards than passes ({}) and pixel rows ({})", self.passes, self.height),
+            ));
         }
         Ok(())
     }
@@ -400,7 +416,7 @@ pub struct Overrides {
     pub adaptive: Option<bool>,
     /// The render's seed (`--seed`).
     pub seed: Option<u64>,
-    /// Stop after the pass that crosses this many seconds (`--time`).
+    /// Stop when this many seconds of rendering are spent (the pass then running is cut short).(`--time`).
     pub time_budget: Option<f64>,
     /// No sample limit unless `spp` is given (set with a time budget on the command line).
     pub spp_unlimited: bool,

@@ -125,7 +125,7 @@ fn load_ply_scene(path: &Path, world: &mut World, res: &mut Resources) -> Result
     let name = Name(mesh.name.clone());
     let h = res.meshes.add(mesh);
     world.spawn((name, Shape::Mesh(h)));
-    spawn_framing_camera_and_headlight(world, lo, hi);
+    spawn_framing_camera_and_headlight(world, lo, hi, path)?;
     Ok(FileSettings::default())
 }
 
@@ -156,12 +156,23 @@ fn load_obj_scene(path: &Path, world: &mut World, res: &mut Resources) -> Result
             world.insert_one(e, Light::Area { radiance, two_sided: false, texture: None }).ok();
         }
     }
-    spawn_framing_camera_and_headlight(world, lo, hi);
+    spawn_framing_camera_and_headlight(world, lo, hi, path)?;
     Ok(FileSettings::default())
 }
 
 /// A 256 x 256 camera framing the box `[lo, hi]` from +z (fov 40) and a headlight along the view (irradiance pi).
-fn spawn_framing_camera_and_headlight(world: &mut World, lo: Vec3, hi: Vec3) {
+/// A box beyond Prism's coordinate limit is an error naming the mesh file (`path`).
+fn spawn_framing_camera_and_headlight(world: &mut World, lo: Vec3, hi: Vec3, path: &Path) -> Result<()> {
+    let reach = lo.abs().max(hi.abs()).max_element();
+    if lo.cmple(hi).all() && (reach.is_nan() || reach > prism_core::limits::MAX_COORDINATE) {
+        return Err(PrismError::format(
+            path,
+            format!(
+                "coordinates reach {reach:e}, beyond Prism's coordinate limit of {:e}",
+                prism_core::limits::MAX_COORDINATE
+            ),
+        ));
+    }
     let (lo, hi) = if lo.cmple(hi).all() { (lo, hi) } else { (Vec3::ZERO, Vec3::ZERO) };
     let center = 0.5 * (lo + hi);
     let radius = (0.5 * (hi - lo).length()).max(1e-6);
@@ -186,13 +197,18 @@ fn spawn_framing_camera_and_headlight(world: &mut World, lo: Vec3, hi: Vec3) {
         Name("headlight".into()),
         Light::Directional { irradiance: Vec3::splat(std::f32::consts::PI), direction: -Vec3::Z },
     ));
+    Ok(())
 }
 
 /// Merge file settings and overrides into `res.settings`; apply `--size` to the camera.
 fn resolve_settings(world: &mut World, res: &mut Resources, f: FileSettings) -> Result<()> {
     let o = res.overrides.clone();
     let mut cams = world.query_mut::<&mut Camera>().into_iter();
-    let cam = cams.next().ok_or_else(|| PrismError::invalid("the scene has no camera"))?;
+    let cam = cams.next().ok_or_else(|| match &res.source {
+        SceneSource::File(p) => PrismError::format(p, "the scene has no camera (add `camera: (...)`)"),
+        SceneSource::RonText { name, .. } => PrismError::format(name, "the scene has no camera (add `camera: (...)`)"),
+        SceneSource::Prebuilt => PrismError::invalid("the scene has no camera (spawn an entity with a `Camera`)"),
+    })?;
     if cams.next().is_some() {
         return Err(PrismError::invalid("the scene has more than one camera"));
     }
@@ -202,8 +218,9 @@ fn resolve_settings(world: &mut World, res: &mut Resources, f: FileSettings) -> 
     }
     let (width, height) = (cam.width, cam.height);
     let d = RenderSettings::default();
+    let f_integrator_pos = f.position("integrator").cloned();
     // A bare `--integrator NAME` naming the scene's integrator keeps the scene's parameters.
-    let integrator = match (o.integrator.as_deref().map(PluginConfig::from_spec).transpose()?, f.integrator) {
+    let integrator = match (o.integrator.as_deref().map(PluginConfig::from_spec).transpose()?, f.integrator.clone()) {
         (Some(spec), Some(cfg)) if spec.name == cfg.name && spec.params.is_none() => cfg,
         (Some(spec), _) => spec,
         (None, Some(cfg)) => cfg,
@@ -217,19 +234,29 @@ fn resolve_settings(world: &mut World, res: &mut Resources, f: FileSettings) -> 
     let shards = o.shard.unwrap_or(d.shard).1;
     // Passes given (on the command line, or in the scene unless the command line sets the sample count) split the
     // samples evenly; otherwise the default layout, whose adaptive pilot is a first pass of its own.
+    // An adaptive render's pilot is always its own first pass of `spp / 16` samples, before the passes asked for:
+    // the pilot decides every pixel's samples, so the image must not depend on how the rest is split.
+    let with_pilot = |n: u32, p: u32| match default_pass_layout(n, adaptive, 1) {
+        (_, Some(pilot)) => (1 + p.min(n - pilot).max(1), Some(pilot)),
+        (_, None) => (p.min(n).max(1), None),
+    };
     let (passes, pilot_spp) = match (o.passes, spp) {
-        (Some(p), _) => (p, None),
+        (Some(p), Some(n)) if adaptive => with_pilot(n, p),
+        (Some(p), Some(_)) => (p, None),
+        // Without a sample limit `passes` sets the passes' size (below), not their number.
+        (Some(_), None) => (u32::MAX, None),
         (None, None) => (u32::MAX, None),
         (None, Some(n)) => match f.passes {
+            Some(p) if o.spp.is_none() && adaptive => with_pilot(n, p),
             Some(p) if o.spp.is_none() => (p.min(n), None),
             _ => default_pass_layout(n, adaptive, shards),
         },
     };
-    // A time budget keeps its passes small (the scene's samples in up to 16 passes, as before the default layout
-    // grew them): a render stops after the pass that crosses the budget, and convergence curves sample time
-    // through these budgets.
+    // Without a sample limit (a time budget) a pass holds the scene's samples split into `passes` (the command
+    // line's, else the scene's) or up to 16 passes; the budget stops the pass it runs out in (that pass is cut short
+    // and does not count), and convergence curves sample time through these budgets.
     let scene_spp = f.spp.unwrap_or(16);
-    let pass_spp = (scene_spp / f.passes.unwrap_or(scene_spp.clamp(1, MAX_DEFAULT_PASSES)).max(1)).max(1);
+    let pass_spp = (scene_spp / o.passes.or(f.passes).unwrap_or(scene_spp.clamp(1, MAX_DEFAULT_PASSES)).max(1)).max(1);
     res.settings = RenderSettings {
         width,
         height,
@@ -248,13 +275,34 @@ fn resolve_settings(world: &mut World, res: &mut Resources, f: FileSettings) -> 
         exposure: o.exposure.or(f.exposure).unwrap_or(d.exposure),
         shard: o.shard.unwrap_or(d.shard),
     };
-    res.settings.validate()?;
+    if let Err((field, message)) = res.settings.check() {
+        // A value the scene gave (the command line did not override it) is reported where the scene gives it.
+        let from_file = match field {
+            "size" => o.size.is_none(),
+            "spp" => o.spp.is_none(),
+            "passes" => o.passes.is_none() && (f.passes.is_some() || o.spp.is_none()),
+            "time" => o.time_budget.is_none(),
+            "filter" => o.filter.is_none(),
+            "exposure" => o.exposure.is_none(),
+            _ => false,
+        };
+        let at = if field == "passes" && f.position("passes").is_none() { "spp" } else { field };
+        let block = if field == "size" { "camera" } else { "render" };
+        return Err(match f.position(at).filter(|_| from_file) {
+            Some(pos) => PrismError::Parse { pos: pos.clone(), message: format!("{block}: {message}") },
+            None => PrismError::invalid(message),
+        });
+    }
     if !res.integrators.contains(&res.settings.integrator.name) {
-        return Err(PrismError::invalid(format!(
+        let message = format!(
             "unknown integrator '{}' (available: {})",
             res.settings.integrator.name,
             res.integrators.names().join(", ")
-        )));
+        );
+        return Err(match f_integrator_pos {
+            Some(pos) if o.integrator.is_none() => PrismError::Parse { pos, message: format!("render: {message}") },
+            _ => PrismError::invalid(message),
+        });
     }
     Ok(())
 }

@@ -40,6 +40,12 @@ pub fn plugin_config(raw: &RawValue, text: &str, file: &Path) -> Result<PluginCo
     };
     if s.starts_with('"') {
         let name: String = ron::from_str(s).map_err(|e| err(format!("integrator name: {}", e.code)))?;
+        if name.contains('(') {
+            return Err(err(format!(
+                "an integrator with parameters is written without quotes: `integrator: {}`",
+                name.trim()
+            )));
+        }
         return Ok(PluginConfig::named(name));
     }
     let ident_len = s.find(|c: char| !(c.is_ascii_alphanumeric() || c == '_')).unwrap_or(s.len());
@@ -62,4 +68,64 @@ pub fn plugin_config(raw: &RawValue, text: &str, file: &Path) -> Result<PluginCo
         params: Some(rest_trim.to_string()),
         origin: Some(SourcePos { file: file.to_path_buf(), line, col }),
     })
+}
+
+/// The 1-based line and column of field `field` of the top-level struct field `block` in RON scene text
+/// (`render: (spp: 0)`: block `render`, field `spp`), skipping strings and comments; `None` when the text does not
+/// give it.
+pub fn field_position(text: &str, block: &str, field: &str) -> Option<(usize, usize)> {
+    let b = text.as_bytes();
+    let ident_at = |i: usize, name: &str| {
+        b[i..].starts_with(name.as_bytes())
+            && (i == 0 || !(b[i - 1].is_ascii_alphanumeric() || b[i - 1] == b'_'))
+            && b.get(i + name.len()).is_none_or(|c| !(c.is_ascii_alphanumeric() || *c == b'_'))
+    };
+    let colon_after = |mut i: usize| {
+        while i < b.len() && b[i].is_ascii_whitespace() {
+            i += 1;
+        }
+        b.get(i) == Some(&b':')
+    };
+    // Depth of parentheses, brackets and braces; the scene's own fields are at depth 1.
+    let (mut depth, mut i, mut in_block) = (0usize, 0usize, None::<usize>);
+    while i < b.len() {
+        match b[i] {
+            b'"' => {
+                i += 1;
+                while i < b.len() && b[i] != b'"' {
+                    i += if b[i] == b'\\' { 2 } else { 1 };
+                }
+            }
+            b'/' if b.get(i + 1) == Some(&b'/') => {
+                while i < b.len() && b[i] != b'\n' {
+                    i += 1;
+                }
+            }
+            b'/' if b.get(i + 1) == Some(&b'*') => {
+                i += 2;
+                while i + 1 < b.len() && !(b[i] == b'*' && b[i + 1] == b'/') {
+                    i += 1;
+                }
+                i += 1;
+            }
+            b'(' | b'[' | b'{' => depth += 1,
+            b')' | b']' | b'}' => {
+                depth = depth.saturating_sub(1);
+                if in_block.is_some_and(|d| depth < d) {
+                    in_block = None;
+                }
+            }
+            _ if depth == 1 && in_block.is_none() && ident_at(i, block) && colon_after(i + block.len()) => {
+                in_block = Some(2);
+                i += block.len();
+                continue;
+            }
+            _ if in_block == Some(depth) && ident_at(i, field) && colon_after(i + field.len()) => {
+                return Some(line_col(text, i));
+            }
+            _ => {}
+        }
+        i += 1;
+    }
+    None
 }

@@ -134,7 +134,7 @@ pub struct RenderDesc<'a> {
     pub adaptive: Option<bool>,
     #[serde(default)]
     pub seed: Option<u64>,
-    /// Time budget in seconds: stop after the pass that crosses it.
+    /// Time budget in seconds: stop when it is spent (the pass then running is cut short and does not count).
     #[serde(default)]
     pub time: Option<f64>,
     /// PNG exposure in stops.

@@ -22,6 +22,7 @@ mod convergence;
 pub mod html;
 pub mod images;
 mod machine;
+mod manifest;
 mod stability;
 pub mod suite;
 mod traversal;
@@ -77,6 +78,8 @@ pub(crate) struct Ctx<'p> {
     /// The plugins every render of the report is built with.
     pub(crate) plugins: &'p dyn Plugin,
     out: PathBuf,
+    /// Every file the run names (relative to `out`): the manifest the next run removes them by.
+    written: std::cell::RefCell<Vec<String>>,
     problems: Vec<Problem>,
     csvs: Vec<Csv>,
     pool: rayon::ThreadPool,
@@ -95,6 +98,7 @@ impl Ctx<'_> {
     /// The file for picture `name` (`img/NAME.png`) and its path relative to the page.
     fn picture(&self, name: &str) -> (PathBuf, String) {
         let rel = format!("img/{name}.png");
+        self.written.borrow_mut().push(rel.clone());
         (self.out.join(&rel), rel)
     }
 
@@ -217,16 +221,11 @@ pub(crate) fn parse_accel(spec: &str, prims: Option<&Primitives>) -> Result<Acce
 /// Every render is built with `plugins` (the binary passes its `DefaultPlugins`).
 pub fn run(suite_path: &Path, out: &Path, opts: &ReportOptions, plugins: &dyn Plugin) -> Result<ReportOutcome> {
     let suite = suite::load(suite_path)?;
+    // Files of an earlier run would be stale (the page names every file it uses): remove what that run wrote, and
+    // nothing else; a folder it did not write is refused.
+    manifest::clear(out)?;
     let img_dir = out.join("img");
     std::fs::create_dir_all(&img_dir).map_err(|e| PrismError::io(&img_dir, e))?;
-    // Pictures of an earlier run would be stale: the page names every file it uses.
-    if let Ok(entries) = std::fs::read_dir(&img_dir) {
-        for e in entries.flatten() {
-            if e.path().extension().is_some_and(|x| x == "png") {
-                let _ = std::fs::remove_file(e.path());
-            }
-        }
-    }
     let threads =
         opts.threads.or(suite.threads).unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
     if !(1..=1024).contains(&threads) {
@@ -236,23 +235,33 @@ pub fn run(suite_path: &Path, out: &Path, opts: &ReportOptions, plugins: &dyn Pl
         .num_threads(threads)
         .build()
         .map_err(|e| PrismError::invalid(format!("cannot start {threads} threads: {e}")))?;
-    let mut ctx = Ctx { plugins, out: out.to_path_buf(), problems: vec![], csvs: vec![], pool };
+    let mut ctx =
+        Ctx { plugins, out: out.to_path_buf(), written: Default::default(), problems: vec![], csvs: vec![], pool };
+    let result = write_report(&mut ctx, &suite, opts, threads);
+    // Whatever happened, the next run can remove every file this one wrote.
+    manifest::write(out, &ctx.written.borrow())?;
+    result
+}
+
+/// The sections, the CSVs and the page of `suite`.
+fn write_report(ctx: &mut Ctx, suite: &suite::Suite, opts: &ReportOptions, threads: usize) -> Result<ReportOutcome> {
+    let out = ctx.out.clone();
     let started = Instant::now();
     let load = machine::Usage::start();
     let mut body = String::new();
     let mut toc: Vec<(String, String)> = vec![];
     for case in &suite.scenes {
-        let (anchor, title, section) = convergence::section(&mut ctx, case);
+        let (anchor, title, section) = convergence::section(ctx, case);
         toc.push((anchor, title));
         body += &section;
     }
     if let Some(a) = &suite.accelerators {
         toc.push(("accelerators".into(), "Accelerators".into()));
-        body += &accelerators::section(&mut ctx, a);
+        body += &accelerators::section(ctx, a);
     }
     if !suite.stability.is_empty() {
         toc.push(("stability".into(), "Stability atlas".into()));
-        body += &stability::section(&mut ctx, &suite.stability);
+        body += &stability::section(ctx, &suite.stability);
     }
     let seconds = started.elapsed().as_secs_f64();
     let usage = load.finish();
@@ -266,6 +275,7 @@ pub fn run(suite_path: &Path, out: &Path, opts: &ReportOptions, plugins: &dyn Pl
     let mut csv_links = vec![];
     for c in &ctx.csvs {
         let path = out.join(c.file);
+        ctx.written.borrow_mut().push(c.file.to_string());
         let mut text = format!("{}\n", c.header);
         for r in &c.rows {
             text += r;
@@ -304,6 +314,7 @@ pub fn run(suite_path: &Path, out: &Path, opts: &ReportOptions, plugins: &dyn Pl
         footer: &footer,
     };
     let index = out.join("index.html");
+    ctx.written.borrow_mut().push("index.html".into());
     prism_core::io::write_atomic(&index, page.render().as_bytes())?;
-    Ok(ReportOutcome { index, problems: ctx.problems, seconds })
+    Ok(ReportOutcome { index, problems: ctx.problems.clone(), seconds })
 }

@@ -358,7 +358,7 @@ impl Offset {
 
 /// Read and check a suite; every path is made relative to the suite file's directory.
 pub fn load(path: &Path) -> Result<Suite> {
-    let text = std::fs::read_to_string(path).map_err(|e| PrismError::io(path, e))?;
+    let text = prism_core::io::read_regular_text(path, "report suite")?;
     let opts = ron::Options::default().with_default_extension(ron::extensions::Extensions::IMPLICIT_SOME);
     let mut suite: Suite = opts.from_str(&text).map_err(|e| PrismError::Parse {
         pos: SourcePos { file: path.to_path_buf(), line: e.span.start.line, col: e.span.start.col },

@@ -205,7 +205,7 @@ pub fn parse_splines(text: &str, file: &Path) -> Result<Vec<SplineTxt>> {
 
 /// Read and parse a spline file.
 pub fn parse_spline_file(path: &Path) -> Result<Vec<SplineTxt>> {
-    let text = std::fs::read_to_string(path).map_err(|e| PrismError::io(path, e))?;
+    let text = prism_core::io::read_regular_text(path, "spline file")?;
     parse_splines(&text, path)
 }
 

@@ -10,7 +10,7 @@ use super::schema::{AccelDesc, CameraDesc, EntityDesc, LightDesc, SceneDesc, V3}
 use super::transform::compose;
 use glam::Vec3;
 use hecs::{Entity, EntityBuilder, World};
-use prism_core::error::{PrismError, Result};
+use prism_core::error::{PrismError, Result, SourcePos};
 use prism_core::material::Material;
 use prism_core::sampling::{PixelFilter, PixelPattern, SamplerKind};
 use prism_core::settings::{AccelKind, GridResolution, PluginConfig};
@@ -34,6 +34,16 @@ pub struct FileSettings {
     pub seed: Option<u64>,
     pub time: Option<f64>,
     pub exposure: Option<f32>,
+    /// Where the file gives each of them (`render` fields by name, and the camera's `size`), so a bad value found
+    /// when the settings are resolved is reported at its `file:line:column`.
+    pub positions: Vec<(&'static str, SourcePos)>,
+}
+
+impl FileSettings {
+    /// The file position of field `name` (a `render` field, or `size` for the camera's), if the file gives it.
+    pub fn position(&self, name: &str) -> Option<&SourcePos> {
+        self.positions.iter().find(|(n, _)| *n == name).map(|(_, p)| p)
+    }
 }
 
 struct Spawner<'r> {
@@ -113,7 +123,20 @@ pub fn spawn_scene(
         seed: r.seed,
         time: r.time,
         exposure: r.exposure,
+        positions: setting_positions(text, file),
     })
+}
+
+/// The positions of the `render` fields and of the camera's `size` in scene text.
+fn setting_positions(text: &str, file: &Path) -> Vec<(&'static str, SourcePos)> {
+    let render = ["integrator", "accel", "grid", "spp", "passes", "sampler", "pattern", "filter", "seed", "time"];
+    let fields = render.iter().chain(&["adaptive", "exposure"]).map(|f| ("render", *f)).chain([("camera", "size")]);
+    fields
+        .filter_map(|(block, field)| {
+            let (line, col) = crate::ron_scene::field_position(text, block, field)?;
+            Some((field, SourcePos { file: file.to_path_buf(), line, col }))
+        })
+        .collect()
 }
 
 /// The accelerator a scene's `render: (accel: ..., grid: ...)` asks for; `grid` alone implies the grid.
