@@ -4,10 +4,14 @@
 //! outcome are printed and written to `target/hostile-report.md` (summarised in docs/guide/reliability.md).
 //!
 //! Classes: forged and truncated images (`images.rs`), mutated RON, 6.837 and OBJ/MTL scenes (`scenes.rs`),
-//! hostile command-line values, file kinds, outputs and film files (`cli.rs`).
+//! hostile command-line values, file kinds, outputs and film files (`cli.rs`), mutated glTF, PLY and pbrt files
+//! (`formats.rs`), texture headers beyond the caps, report suites and folders, and untrusted scenes under
+//! `--allow-read` (`inputs.rs`).
 
 mod cli;
+mod formats;
 mod images;
+mod inputs;
 mod scenes;
 
 use crate::common::{Run, prism_run};
@@ -90,12 +94,17 @@ fn several_hundred_hostile_inputs_end_in_a_render_or_a_clean_error() {
     cases.extend(images::cases());
     cases.extend(scenes::cases());
     cases.extend(cli::cases());
-    assert!(cases.len() >= 300, "only {} cases", cases.len());
+    cases.extend(formats::cases());
+    cases.extend(inputs::cases());
+    assert!(cases.len() >= 1000, "only {} cases", cases.len());
     let mut counts: BTreeMap<&str, BTreeMap<Outcome, usize>> = BTreeMap::new();
     let mut failures = Vec::new();
+    let mut slowest = Vec::new();
     for c in &cases {
         let args: Vec<&std::ffi::OsStr> = c.args.iter().map(|a| a.as_os_str()).collect();
+        let start = std::time::Instant::now();
         let r = prism_run(&args, Duration::from_secs(30));
+        slowest.push((start.elapsed(), c.class, c.name.clone()));
         let o = classify(&r, c.expect);
         *counts.entry(c.class).or_default().entry(o).or_default() += 1;
         if o > Outcome::CleanError {
@@ -141,7 +150,14 @@ fn several_hundred_hostile_inputs_end_in_a_render_or_a_clean_error() {
         report += &format!(" **{}** |", total.get(&o).copied().unwrap_or(0));
     }
     report += "\n";
+    slowest.sort_by(|a, b| b.0.cmp(&a.0));
+    report += "\nSlowest cases:\n\n";
+    for (t, class, name) in slowest.iter().take(25) {
+        report += &format!("- {:.2} s [{class}] {name}\n", t.as_secs_f64());
+    }
     eprintln!("{report}");
+    // A report's forged manifest named a file outside its folder: nothing outside may have been removed.
+    assert!(dir("reports").join("a-file").is_file(), "a report removed a file outside its folder");
     let out = crate::common::root().join("target/hostile-report.md");
     let _ = std::fs::write(out, &report);
     assert!(
