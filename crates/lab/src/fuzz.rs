@@ -1,7 +1,8 @@
 //! In-memory entry points of the fuzz targets (`fuzz/fuzz_targets/`, libFuzzer through `cargo fuzz`) and of the
 //! stable-toolchain test that replays their corpus of past crashes (`tests/fuzz_replay.rs`). Each takes arbitrary
 //! bytes, runs one parser (and what consumes its output) and must return: errors are expected, panics, aborts and
-//! hangs are bugs. None of them reads or writes a file: scenes that name files are only parsed.
+//! hangs are bugs. None of them reads a file of the system (scenes that name files are only parsed); `film_resume`
+//! writes the film it resumes to one temporary file of its own, as `--resume` reads from a path.
 
 use prism_core::settings::{Overrides, PluginConfig};
 use prism_engine::{App, Plugin, SceneSource};
@@ -12,7 +13,7 @@ use std::path::Path;
 pub type Entry = fn(&[u8], &dyn Plugin);
 
 /// Every target, by the name of its `fuzz/fuzz_targets/NAME.rs` and `tests/fuzz_corpus/NAME/`.
-pub const TARGETS: [(&str, Entry); 12] = [
+pub const TARGETS: [(&str, Entry); 13] = [
     ("ron_scene", ron_scene),
     ("mit6837_scene", mit6837_scene),
     ("obj_mtl", obj_mtl),
@@ -20,6 +21,7 @@ pub const TARGETS: [(&str, Entry); 12] = [
     ("exr_image", exr_image),
     ("integrator_spec", integrator_spec),
     ("film_file", film_file),
+    ("film_resume", film_resume),
     ("ray_file", ray_file),
     ("mit6837_spline", mit6837_spline),
     ("ply_mesh", ply_mesh),
@@ -131,14 +133,112 @@ pub fn integrator_spec(data: &[u8], plugins: &dyn Plugin) {
     }
 }
 
-/// A `.prism-film` file: decoded, its image computed and merged with itself (as `prism merge` does).
-pub fn film_file(data: &[u8], _plugins: &dyn Plugin) {
-    if let Ok(mut f) = prism_core::film::parse_film(data, Path::new("fuzz.prism-film")) {
-        let _ = f.film.image();
-        let copy = f.film.clone();
-        f.film.accumulate(&copy);
-        let _ = f.film.sample_range();
+/// The bytes with their last 8 replaced by the film checksum of the rest, so mutations reach past the checksum.
+fn sealed(data: &[u8]) -> Vec<u8> {
+    let mut v = data.to_vec();
+    if v.len() >= 8 {
+        let n = v.len() - 8;
+        let sum = prism_core::film::checksum(&v[..n]);
+        v[n..].copy_from_slice(&sum.to_le_bytes());
     }
+    v
+}
+
+/// A `.prism-film` file, as given and with its checksum made right: decoded, its image computed and merged with
+/// itself (as `prism merge` does).
+pub fn film_file(data: &[u8], _plugins: &dyn Plugin) {
+    for bytes in [data.to_vec(), sealed(data)] {
+        if let Ok(mut f) = prism_core::film::parse_film(&bytes, Path::new("fuzz.prism-film")) {
+            let _ = f.film.image();
+            let copy = f.film.clone();
+            f.film.accumulate(&copy);
+            let _ = f.film.sample_range();
+        }
+    }
+}
+
+/// The scene `film_resume` resumes: 4x4 pixels, 4 passes of 1 sample.
+const RESUME_SCENE: &str = r#"(
+    camera: (eye: (0, 0, 4), target: (0, 0, 0), up: (0, 1, 0), fov: 40, size: (4, 4)),
+    render: (spp: 4, passes: 4),
+    materials: { "grey": Lambert(albedo: (0.8, 0.8, 0.8)) },
+    entities: [
+        (shape: Sphere(), material: "grey"),
+        (shape: Quad(), light: Area(radiance: (4, 4, 4)), transform: [Translate((0, 2, 0)), Euler((90, 0, 0))]),
+        (light: Environment(radiance: (0.2, 0.2, 0.2))),
+    ],
+)"#;
+
+/// The integrators `film_resume` resumes (the first byte of its input picks one), with `--adaptive` or not.
+const RESUME_INTEGRATORS: [(&str, bool); 5] =
+    [("phong", false), ("envlight", false), ("envlight", true), ("ppm(photons: 16)", false), ("debug", false)];
+
+/// An app rendering [`RESUME_SCENE`] with integrator `k`, writing or resuming the film at `film`.
+fn resume_app(k: usize, plugins: &dyn Plugin, film: &Path, resume: bool) -> App {
+    let (spec, adaptive) = RESUME_INTEGRATORS[k];
+    let mut app = App::with(plugins);
+    app.resources.source =
+        SceneSource::RonText { text: RESUME_SCENE.into(), name: "resume.ron".into(), base_dir: NO_DIR.into() };
+    app.resources.overrides =
+        Overrides { integrator: Some(spec.into()), adaptive: Some(adaptive), time_budget: None, ..Default::default() };
+    if resume {
+        app.resources.resume = Some(film.to_path_buf());
+    } else {
+        app.resources.outputs = vec![film.to_path_buf()];
+    }
+    app
+}
+
+/// A saved render resumed (`prism render --resume`) and merged (`prism merge`). The first byte picks an
+/// integrator; the rest, with its checksum made right, is a film file whose size, integrator, shard and fingerprint
+/// are set to those of a real render of a tiny scene, so its sums, counts, progress and the integrator's own state
+/// reach `--resume` and the passes rendered after it, then the merge with that real render.
+pub fn film_resume(data: &[u8], plugins: &dyn Plugin) {
+    use prism_core::film::{parse_film, read_film, write_film};
+    let Some((&pick, rest)) = data.split_first() else { return };
+    let k = pick as usize % RESUME_INTEGRATORS.len();
+    let dir = std::env::temp_dir().join(format!("prism-fuzz-resume-{}", std::process::id()));
+    if std::fs::create_dir_all(&dir).is_err() {
+        return;
+    }
+    let real_path = dir.join(format!("real{k}.prism-film"));
+    if !real_path.is_file() {
+        let mut app = resume_app(k, plugins, &real_path, false);
+        if let Err(e) = app.run() {
+            panic!("the tiny scene does not render with `{}`: {e}", RESUME_INTEGRATORS[k].0);
+        }
+    }
+    let Ok(real) = read_film(&real_path) else { return };
+    let Ok(mut f) = parse_film(&sealed(rest), Path::new("fuzz.prism-film")) else { return };
+    if f.film.width * f.film.height != real.film.width * real.film.height {
+        return;
+    }
+    let h = &real.header;
+    f.header = prism_core::film::FilmHeader {
+        passes_done: f.header.passes_done,
+        passes: f.header.passes,
+        spp_done: f.header.spp_done,
+        ..h.clone()
+    };
+    let film = prism_core::film::Film::from_parts(
+        h.width,
+        h.height,
+        f.film.parts().0.to_vec(),
+        f.film.parts().1.to_vec(),
+        f.film.nonfinite,
+    );
+    let forged = dir.join("forged.prism-film");
+    if write_film(&forged, &f.header, &film, &f.state).is_err() {
+        return;
+    }
+    let mut app = resume_app(k, plugins, &forged, true);
+    if app.run().is_ok()
+        && let Some(mut resumed) = app.resources.film.take()
+    {
+        resumed.accumulate(&real.film);
+        let _ = resumed.image();
+    }
+    let _ = std::fs::remove_file(&forged);
 }
 
 /// A `.prism-rays` file (`prism bench --export-rays`).

@@ -79,7 +79,8 @@ pub struct FilmFile {
     pub state: Vec<u8>,
 }
 
-fn fnv1a(bytes: &[u8]) -> u64 {
+/// The FNV-1a 64 checksum a film file ends with, of everything before it.
+pub fn checksum(bytes: &[u8]) -> u64 {
     let mut h = 0xcbf2_9ce4_8422_2325u64;
     for b in bytes {
         h ^= *b as u64;
@@ -118,7 +119,7 @@ pub fn write_film(path: &Path, header: &FilmHeader, film: &Film, state: &[u8]) -
     }
     b.extend_from_slice(&(state.len() as u64).to_le_bytes());
     b.extend_from_slice(state);
-    let sum = fnv1a(&b);
+    let sum = checksum(&b);
     b.extend_from_slice(&sum.to_le_bytes());
     crate::io::write_atomic(path, &b)
 }
@@ -161,7 +162,7 @@ pub fn parse_film(bytes: &[u8], path: &Path) -> Result<FilmFile> {
         return Err(PrismError::format(path, "not a Prism film file (bad magic)"));
     }
     let (body, tail) = bytes.split_at(bytes.len() - 8);
-    if fnv1a(body) != u64::from_le_bytes(tail.try_into().unwrap_or_default()) {
+    if checksum(body) != u64::from_le_bytes(tail.try_into().unwrap_or_default()) {
         return Err(PrismError::format(path, "film file is corrupt or truncated (checksum mismatch)"));
     }
     let mut r = Reader { b: body, at: 8, path };

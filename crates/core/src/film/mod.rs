@@ -11,7 +11,7 @@ pub mod file;
 pub mod fixed;
 mod tiles;
 
-pub use file::{FilmFile, FilmHeader, ShardAxis, parse_film, read_film, write_film};
+pub use file::{FilmFile, FilmHeader, ShardAxis, checksum, parse_film, read_film, write_film};
 pub use fixed::FixedRgb;
 pub use tiles::{PassOutput, TILE_SIZE, Tile, TileSamples, tiles};
 
