@@ -115,7 +115,7 @@ fn gltf_cases(v: &mut Vec<Case>) {
             .collect();
         set(&mut dag, "/nodes", json!(nodes));
         set(&mut dag, "/scenes/0/nodes", json!([0, levels + 1]));
-        let instances = (fan as f64).powi(levels as i32);
+        let instances = (fan as f64).powi(levels);
         let expect = if instances > (1u64 << 20) as f64 { Expect::Error } else { Expect::Either };
         add(v, &format!("{levels} levels of {fan} shared children"), &dag, expect);
     }
@@ -396,7 +396,7 @@ fn pbrt_cases(v: &mut Vec<Case>) {
             );
         }
         text += &format!("ObjectInstance \"o{}\"\n", levels - 1);
-        let bytes = world.len() as f64 * (copies as f64).powi(levels as i32 - 1);
+        let bytes = world.len() as f64 * (copies as f64).powi(levels - 1);
         let expect = if bytes > (256u64 << 20) as f64 { Expect::Error } else { Expect::Either };
         add(v, format!("{levels} levels of objects instancing {copies} copies"), text, expect);
     }

@@ -150,7 +150,7 @@ fn several_hundred_hostile_inputs_end_in_a_render_or_a_clean_error() {
         report += &format!(" **{}** |", total.get(&o).copied().unwrap_or(0));
     }
     report += "\n";
-    slowest.sort_by(|a, b| b.0.cmp(&a.0));
+    slowest.sort_by_key(|s| std::cmp::Reverse(s.0));
     report += "\nSlowest cases:\n\n";
     for (t, class, name) in slowest.iter().take(25) {
         report += &format!("- {:.2} s [{class}] {name}\n", t.as_secs_f64());
