@@ -32,6 +32,11 @@ fn all_maps() -> Vec<(String, EnvMap)> {
         .map(|f| data(&format!("envmaps/cube_faces/pisaHDR/{f}.hdr")))
         .collect();
     maps.push(("pisa_faces".into(), EnvMap::load(&faces, None).unwrap()));
+    // pbrt-v4's equal-area octahedral square (PFM), from Bitterli's classroom.
+    maps.push((
+        "classroom_skydome".into(),
+        EnvMap::load(&[data("bitterli/classroom/textures/Skydome.pfm")], None).unwrap(),
+    ));
     maps.push(("synthetic_sun".into(), synthetic_sun()));
     maps
 }

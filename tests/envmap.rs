@@ -4,8 +4,8 @@
 use crate::common::{data, scratch};
 use glam::{Vec2, Vec3, Vec3A};
 use prism::envmap::{
-    CUBE_FACES, EnvImage, EnvLayout, EnvMap, SourceLayout, cube_coords, cube_direction, equirect_coords,
-    equirect_direction,
+    CUBE_FACES, EnvImage, EnvLayout, EnvMap, SourceLayout, cube_coords, cube_direction, equal_area_coords,
+    equal_area_direction, equirect_coords, equirect_direction, octahedral_texel,
 };
 use std::path::PathBuf;
 
@@ -19,6 +19,12 @@ fn coded(layout: EnvLayout, w: u32, h: u32) -> EnvMap {
     match layout {
         EnvLayout::Equirect => EnvMap::equirect(img(0)),
         EnvLayout::Cube => EnvMap::cube((0..6).map(img).collect()),
+        EnvLayout::EqualArea => EnvMap::from_image(
+            prism::io::Image::new(w, h, img(0).texels),
+            std::path::Path::new("coded.exr"),
+            Some(SourceLayout::EqualArea),
+        )
+        .unwrap(),
     }
 }
 
@@ -166,7 +172,7 @@ fn real_cube_maps_are_continuous_across_all_twelve_edges() {
 
 #[test]
 fn texel_solid_angles_sum_to_four_pi() {
-    for (layout, w, h) in [(EnvLayout::Equirect, 64, 32), (EnvLayout::Cube, 16, 16)] {
+    for (layout, w, h) in [(EnvLayout::Equirect, 64, 32), (EnvLayout::Cube, 16, 16), (EnvLayout::EqualArea, 16, 16)] {
         let map = coded(layout, w, h);
         let mut sum = 0.0f64;
         for (k, img) in map.images.iter().enumerate() {
@@ -192,9 +198,9 @@ fn bad_environment_files_give_clear_errors() {
     std::fs::write(&not_hdr, "hello, not an image").unwrap();
     let e = EnvMap::load(&[not_hdr], None).unwrap_err().to_string();
     assert!(e.contains("text.hdr") && e.contains("Radiance"), "{e}");
-    let wrong = write_cells("wrong_aspect.exr", 30, 30, |_, _| Vec3::ONE);
+    let wrong = write_cells("wrong_aspect.exr", 30, 20, |_, _| Vec3::ONE);
     let e = EnvMap::load(std::slice::from_ref(&wrong), None).unwrap_err().to_string();
-    assert!(e.contains("2:1") && e.contains("3:4"), "{e}");
+    assert!(e.contains("2:1") && e.contains("3:4") && e.contains("square"), "{e}");
     let e = EnvMap::load(&[wrong], Some(SourceLayout::Cross)).unwrap_err().to_string();
     assert!(e.contains("3:4"), "{e}");
     let missing = EnvMap::load(&[dir.join("nope.hdr")], None).unwrap_err().to_string();
@@ -215,4 +221,101 @@ fn nan_and_negative_texels_are_clamped_and_infinite_ones_rejected() {
         write_cells("inf.exr", 8, 4, |x, y| if (x, y) == (3, 2) { Vec3::splat(f32::INFINITY) } else { Vec3::ONE });
     let e = EnvMap::load(&[inf], None).unwrap_err().to_string();
     assert!(e.contains("(3, 2)") && e.contains("infinite"), "{e}");
+}
+
+// pbrt-v4's equal-area octahedral maps (`envmap/equal_area.rs`).
+
+#[test]
+fn the_mapping_round_trips_and_its_inverse_is_a_unit_vector() {
+    for i in 0..64 {
+        for j in 0..64 {
+            let uv = Vec2::new((i as f32 + 0.5) / 64.0, (j as f32 + 0.5) / 64.0);
+            let d = equal_area_direction(uv);
+            assert!((d.length() - 1.0).abs() < 1e-5, "{uv} -> {d}");
+            let back = equal_area_coords(d);
+            assert!((back - uv).abs().max_element() < 1e-4, "{uv} -> {d} -> {back}");
+        }
+    }
+}
+
+#[test]
+fn up_is_the_centre_and_down_the_corners() {
+    assert!((equal_area_direction(Vec2::splat(0.5)) - Vec3A::Y).length() < 1e-6);
+    for c in [Vec2::ZERO, Vec2::X, Vec2::Y, Vec2::ONE] {
+        assert!((equal_area_direction(c) - Vec3A::NEG_Y).length() < 1e-6, "{c}");
+    }
+}
+
+/// Equal area: the directions of a uniform grid over the square are uniform on the sphere, so the mean of any
+/// function over them is its mean over the sphere (here z^2, whose mean is 1/3, and the first moments, 0).
+#[test]
+fn equal_areas_of_the_square_are_equal_solid_angles() {
+    let n = 512;
+    let (mut z2, mut m) = (0.0f64, Vec3A::ZERO);
+    for i in 0..n {
+        for j in 0..n {
+            let d = equal_area_direction(Vec2::new((i as f32 + 0.5) / n as f32, (j as f32 + 0.5) / n as f32));
+            z2 += (d.z * d.z) as f64;
+            m += d;
+        }
+    }
+    let count = (n * n) as f64;
+    assert!((z2 / count - 1.0 / 3.0).abs() < 1e-3, "{}", z2 / count);
+    assert!((m / count as f32).abs().max_element() < 1e-3, "{m}");
+}
+
+#[test]
+fn texels_past_an_edge_are_their_mirror_images() {
+    // Across an edge, the texel at the same distance from the edge's midpoint on the other side.
+    assert_eq!(octahedral_texel(-1, 0, 8, 8), (0, 7));
+    assert_eq!(octahedral_texel(8, 2, 8, 8), (7, 5));
+    assert_eq!(octahedral_texel(3, -1, 8, 8), (4, 0));
+    assert_eq!(octahedral_texel(3, 8, 8, 8), (4, 7));
+    // The mapping agrees: points just either side of an edge map to nearby directions.
+    let a = equal_area_direction(Vec2::new(0.001, 0.3));
+    let b = equal_area_direction(Vec2::new(0.001, 0.7));
+    assert!((a - b).length() < 0.02, "{a} {b}");
+}
+
+#[test]
+fn equal_area_lookups_at_texel_centres_return_the_texels() {
+    let map = coded(EnvLayout::EqualArea, 8, 8);
+    for y in 0..8 {
+        for x in 0..8 {
+            let uv = Vec2::new((x as f32 + 0.5) / 8.0, (y as f32 + 0.5) / 8.0);
+            let d = map.direction(0, uv);
+            let v = map.lookup(d);
+            assert!((v - Vec3::new(x as f32, y as f32, 0.0)).abs().max_element() < 1e-3, "({x}, {y}) -> {d} -> {v}");
+        }
+    }
+}
+
+/// The same sky in both layouts has the same integral: an equirect map resampled into an equal-area square (each
+/// texel the mean of 16 lookups) integrates, with the constant 4 pi / texels, to the panorama's integral.
+#[test]
+fn an_equirect_sky_resampled_to_equal_area_keeps_its_integral() {
+    let pano = EnvMap::load(&[data("envmaps/equirect/probulator_grace_256x128.hdr")], None).unwrap();
+    let n = 128u32;
+    let mut texels = Vec::with_capacity((n * n) as usize);
+    for y in 0..n {
+        for x in 0..n {
+            let mut sum = Vec3::ZERO;
+            for j in 0..4 {
+                for i in 0..4 {
+                    let uv = Vec2::new(
+                        (x as f32 + (i as f32 + 0.5) / 4.0) / n as f32,
+                        (y as f32 + (j as f32 + 0.5) / 4.0) / n as f32,
+                    );
+                    sum += pano.lookup(equal_area_direction(uv));
+                }
+            }
+            texels.push(sum / 16.0);
+        }
+    }
+    let square = EnvMap::from_image(prism::io::Image::new(n, n, texels), std::path::Path::new("sq.exr"), None).unwrap();
+    assert_eq!(square.layout, EnvLayout::EqualArea, "a square map is read as equal-area");
+    let (a, b) = (pano.integral(), square.integral());
+    for c in 0..3 {
+        assert!((a[c] - b[c]).abs() < 0.01 * a[c], "channel {c}: equirect {a} vs equal-area {b}");
+    }
 }

@@ -376,3 +376,58 @@ fn image_textures_keep_pbrts_orientation_and_uv_scale() {
     assert!(row(5).x > 4.0 * row(5).z, "top of the quad is red: {:?}", row(5));
     assert!(row(10).z > 4.0 * row(10).x, "bottom of the quad is blue: {:?}", row(10));
 }
+
+/// pbrt-v4's `infinite` `filename`: an equal-area octahedral square (pbrt's `EqualAreaSphereToSquare`: +x at the
+/// middle of the right edge, +y at the middle of the bottom edge, +z at the centre), here read from a PFM file,
+/// whose rows run from the bottom up.
+#[test]
+fn a_pbrt_v4_equal_area_map_from_a_pfm_file_is_looked_up_in_pbrts_frame() {
+    let dir = scratch("pbrt-env-v4");
+    let n = 16usize;
+    let mut px = vec![[0f32; 3]; n * n];
+    for k in [7, 8] {
+        px[k * n + (n - 1)] = [1.0, 0.0, 0.0]; // (1, 0.5): +x
+        px[(n - 1) * n + k] = [0.0, 1.0, 0.0]; // (0.5, 1): +y
+        for j in [7, 8] {
+            px[j * n + k] = [0.0, 0.0, 1.0]; // (0.5, 0.5): +z
+        }
+    }
+    let mut pfm = format!("PF\n{n} {n}\n-1.0\n").into_bytes();
+    for row in (0..n).rev() {
+        for p in &px[row * n..(row + 1) * n] {
+            for c in p {
+                pfm.extend(c.to_le_bytes());
+            }
+        }
+    }
+    std::fs::write(dir.join("sky.pfm"), pfm).unwrap();
+    let look = |to: &str, up: &str| {
+        let text = format!(
+            "LookAt 0 0 0  {to}  {up}\nCamera \"perspective\" \"float fov\" 5\nFilm \"rgb\" \"integer xresolution\" 4 \"integer yresolution\" 4\n\
+             Integrator \"path\" \"integer maxdepth\" 1\nWorldBegin\nLightSource \"infinite\" \"string filename\" \"sky.pfm\" \"float scale\" 2\n"
+        );
+        std::fs::write(dir.join("env.pbrt"), text).unwrap();
+        render_file(&dir.join("env.pbrt"), spp(4)).mean()
+    };
+    let (x, y, z, nx) =
+        (look("1 0 0", "0 0 1"), look("0 1 0", "0 0 1"), look("0 0 1", "0 1 0"), look("-1 0 0", "0 0 1"));
+    assert!(x.x > 0.8 && x.y < 0.05 && x.z < 0.05, "+x sees red (times the scale 2): {x:?}");
+    assert!(y.y > 0.8 && y.x < 0.05 && y.z < 0.05, "+y sees green: {y:?}");
+    assert!(z.z > 0.8 && z.x < 0.05 && z.y < 0.05, "+z sees blue: {z:?}");
+    assert!(nx.max_element() < 0.05, "-x sees nothing: {nx:?}");
+}
+
+/// pbrt-v3 accepts `AreaLightSource "area"`, the older name of `"diffuse"` (pbrt-v3's own killeroo-simple.pbrt).
+#[test]
+fn area_light_source_area_is_the_diffuse_area_light() {
+    let scene = |ty: &str| {
+        format!(
+            "LookAt 0 0 5  0 0 0  0 1 0\nCamera \"perspective\" \"float fov\" 30\nFilm \"image\" \"integer xresolution\" 4 \"integer yresolution\" 4\n\
+             WorldBegin\nAttributeBegin\nAreaLightSource \"{ty}\" \"rgb L\" [2 2 2]\nShape \"sphere\" \"float radius\" 1\nAttributeEnd\nWorldEnd\n"
+        )
+    };
+    let a = ron_of(&write("area.pbrt", &scene("area")));
+    let b = ron_of(&write("diffuse.pbrt", &scene("diffuse")));
+    assert_eq!(a.replace("area.pbrt", "X"), b.replace("diffuse.pbrt", "X"));
+    assert!(a.contains("Area(radiance: (2"), "{a}");
+}

@@ -141,3 +141,20 @@ fn out_of_range_and_negative_indices_nan_vertices_and_bad_headers_are_named() {
     let e = ply_err(ascii.replacen("1 1 0 0 0 1 1 1", "1 one 0 0 0 1 1 1", 1).as_bytes());
     assert!(e.contains("vertex"), "{e}");
 }
+
+/// A vertex normal of NaN (written by some exporters at degenerate vertices) takes the geometric normal of the
+/// vertex's faces: the square's faces lie in z = 0 with counter-clockwise winding, so +z; the mesh still loads.
+#[test]
+fn nan_vertex_normals_become_the_geometric_normal_of_their_faces() {
+    // Binary (ASCII PLY has no spelling for NaN): vertex 2's nx becomes NaN, vertex 4's ny infinite.
+    let mut bytes = square_ply("binary_little_endian");
+    let start = bytes.windows(11).position(|w| w == b"end_header\n").unwrap() + 11;
+    let at = |vertex: usize, field: usize| start + (vertex * 8 + field) * 4;
+    bytes[at(2, 3)..at(2, 4)].copy_from_slice(&f32::NAN.to_le_bytes());
+    bytes[at(4, 4)..at(4, 5)].copy_from_slice(&f32::INFINITY.to_le_bytes());
+    let m = parse_ply(&bytes, Path::new("nan_normals.ply")).unwrap();
+    assert_eq!(m.normals.len(), 5);
+    for (i, n) in m.normals.iter().enumerate() {
+        assert!((*n - glam::Vec3::Z).length() < 1e-6, "vertex {i}: {n}");
+    }
+}

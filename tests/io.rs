@@ -338,3 +338,53 @@ fn charts_are_standalone_svg_with_one_polyline_per_series() {
     let text_x: f64 = svg.split("<text x=\"").last().unwrap().split('"').next().unwrap().parse().unwrap();
     assert!(width(&svg) >= text_x + 7.2 * long.len() as f64, "legend of {} px in a chart {} wide", text_x, width(&svg));
 }
+
+// Portable float maps (`io/pfm.rs`).
+
+fn pfm(header: &str, values: &[f32], little: bool) -> Vec<u8> {
+    let mut b = header.as_bytes().to_vec();
+    for v in values {
+        b.extend(if little { v.to_le_bytes() } else { v.to_be_bytes() });
+    }
+    b
+}
+
+#[test]
+fn pfm_rows_are_stored_from_the_bottom_in_either_byte_order() {
+    for (little, scale) in [(true, "-1.0"), (false, "1.0")] {
+        let b = pfm(&format!("PF\n2 2\n{scale}\n"), &[1., 2., 3., 4., 5., 6., 7., 8., 9., 10., 11., 12.], little);
+        let img = prism::io::read_pfm_bytes(&b, std::path::Path::new("t.pfm")).unwrap();
+        // The file's first row is the image's bottom row.
+        assert_eq!(img.get(0, 1), glam::Vec3::new(1., 2., 3.));
+        assert_eq!(img.get(1, 0), glam::Vec3::new(10., 11., 12.));
+    }
+    let grey = prism::io::read_pfm_bytes(&pfm("Pf 1 1 -1\n", &[0.5], true), std::path::Path::new("g.pfm")).unwrap();
+    assert_eq!(grey.get(0, 0), glam::Vec3::splat(0.5));
+}
+
+#[test]
+fn forged_pfm_headers_are_errors_before_allocation() {
+    let p = std::path::Path::new("bad.pfm");
+    for (bytes, needle) in [
+        (b"P6\n1 1\n255\n".to_vec(), "not a portable float map"),
+        (pfm("PF\n100000 100000\n-1\n", &[], true), "larger than Prism reads"),
+        (pfm("PF\n4 4\n-1\n", &[1.0; 5], true), "truncated"),
+        (pfm("PF\n4 x\n-1\n", &[], true), "height"),
+        (pfm("PF\n1 1\n0\n", &[1.0; 3], true), "scale"),
+        (pfm("PF\n1.5 1\n-1\n", &[1.0; 3], true), "whole numbers"),
+    ] {
+        let e = prism::io::read_pfm_bytes(&bytes, p).unwrap_err().to_string();
+        assert!(e.contains(needle) && e.contains("bad.pfm"), "{e}");
+    }
+}
+
+/// TGA textures (13 of Bitterli's pbrt-v4 scenes use them): classroom's wood decodes, 8-bit sRGB to linear, with
+/// the image's own size and plausible wood colours (red above blue).
+#[test]
+fn tga_textures_decode() {
+    let tex = prism::texture::TexImage::load(&crate::common::data("bitterli/classroom/textures/wood1.tga"), false)
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert!(tex.width > 0 && tex.height > 0);
+    let mean = tex.texels.iter().fold(glam::Vec3::ZERO, |a, t| a + *t) / tex.texels.len() as f32;
+    assert!(mean.x > mean.z && mean.max_element() < 1.0 && mean.min_element() > 0.0, "{mean}");
+}

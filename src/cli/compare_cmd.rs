@@ -1,5 +1,6 @@
 //! `prism compare TEST REF [--json]`: the metrics of `compare.rs`, and where the squared error lies (the share of
-//! it in the worst 0.1%, 1% and 10% of the pixels).
+//! it in the worst 0.1%, 1% and 10% of the pixels). A reference an integer multiple of the test's size (the same
+//! factor in both axes) is box-filtered down to it first, with a note.
 
 use prism_core::io::read_image;
 use prism_lab::compare::{compare, error_concentration};
@@ -7,7 +8,20 @@ use std::path::Path;
 
 pub fn run(test: &Path, reference: &Path, json: bool) -> anyhow::Result<()> {
     let a = read_image(test)?;
-    let b = read_image(reference)?;
+    let mut b = read_image(reference)?;
+    if (a.width, a.height) != (b.width, b.height)
+        && let Some(small) = prism_lab::compare::box_downsample(&b, a.width, a.height)
+    {
+        eprintln!(
+            "note: {} box-filtered from {}x{} to {}x{}",
+            reference.display(),
+            b.width,
+            b.height,
+            a.width,
+            a.height
+        );
+        b = small;
+    }
     let m = compare(&a, &b)?;
     let top = error_concentration(&a, &b)?;
     let text = if json {

@@ -56,6 +56,32 @@ impl Metrics {
     }
 }
 
+/// `reference` box-filtered to `width` x `height` when it is an integer multiple of that size in both axes (a
+/// reference rendered at full resolution beside a test at a fraction of it); `None` when it is not.
+pub fn box_downsample(reference: &Image, width: u32, height: u32) -> Option<Image> {
+    if width == 0 || height == 0 || !reference.width.is_multiple_of(width) || !reference.height.is_multiple_of(height) {
+        return None;
+    }
+    let (fx, fy) = (reference.width / width, reference.height / height);
+    if fx != fy {
+        return None;
+    }
+    let mut pixels = Vec::with_capacity(width as usize * height as usize);
+    for y in 0..height {
+        for x in 0..width {
+            let mut sum = glam::DVec3::ZERO;
+            for dy in 0..fy {
+                let row = ((y * fy + dy) * reference.width) as usize;
+                for dx in 0..fx {
+                    sum += reference.pixels[row + (x * fx + dx) as usize].as_dvec3();
+                }
+            }
+            pixels.push((sum / (fx * fy) as f64).as_vec3());
+        }
+    }
+    Some(Image { width, height, pixels })
+}
+
 pub fn compare(test: &Image, reference: &Image) -> Result<Metrics> {
     if (test.width, test.height) != (reference.width, reference.height) {
         return Err(PrismError::invalid(format!(

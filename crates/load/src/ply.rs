@@ -9,7 +9,9 @@
 //! after the header must be able to hold what the header declares (each element at least its fixed-size part in
 //! binary files, two characters per value in ASCII ones); a count the data does not fill is an error naming the
 //! element and how many were read; out-of-range or negative indices, NaN or infinite coordinates, and faces of
-//! fewer than 3 vertices are errors naming the face or vertex.
+//! fewer than 3 vertices are errors naming the face or vertex. NaN or infinite vertex normals (some exporters
+//! write them at degenerate vertices) are replaced by the geometric normal of the vertex's faces, with one warning
+//! naming the file and the count, as pbrt renders such files.
 
 use glam::{Vec2, Vec3};
 use ply_rs_bw::parser::{Parser, Reader};
@@ -275,6 +277,8 @@ pub fn parse_ply(bytes: &[u8], path: &Path) -> Result<MeshData> {
     let mut positions = Vec::with_capacity(n);
     let mut normals = Vec::with_capacity(if has_normals { n } else { 0 });
     let mut uvs = Vec::with_capacity(if has_uvs { n } else { 0 });
+    // Vertices whose normal is NaN or infinite: given the geometric normal of their faces once those are read.
+    let mut bad_normals = Vec::new();
     for (i, v) in vertices.iter().enumerate() {
         let p = Vec3::new(v.p[0] as f32, v.p[1] as f32, v.p[2] as f32);
         if !p.is_finite() {
@@ -284,7 +288,7 @@ pub fn parse_ply(bytes: &[u8], path: &Path) -> Result<MeshData> {
         if has_normals {
             let nn = Vec3::new(v.n[0] as f32, v.n[1] as f32, v.n[2] as f32);
             if !nn.is_finite() {
-                return Err(err(format!("vertex {i} has a NaN or infinite normal {:?}", v.n)));
+                bad_normals.push(i);
             }
             normals.push(nn);
         }
@@ -314,6 +318,40 @@ pub fn parse_ply(bytes: &[u8], path: &Path) -> Result<MeshData> {
             indices.push([poly[0], poly[k], poly[k + 1]]);
         }
     }
+    if !bad_normals.is_empty() {
+        geometric_normals_at(&bad_normals, &positions, &indices, &mut normals);
+        prism_core::error::warn(&format!(
+            "{}: {} vertex normal(s) NaN or infinite (the first: vertex {}), replaced by the geometric normal of \
+             their faces",
+            path.display(),
+            bad_normals.len(),
+            bad_normals[0]
+        ));
+    }
     let name = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "ply".into());
     Ok(MeshData { name, positions, normals, uvs, indices, tangents: vec![] })
+}
+
+/// Set the normals of the vertices `bad` to the area-weighted mean of the geometric normals (by winding) of the
+/// triangles around them; a vertex on no triangle, or only on degenerate ones, gets +z (it shades nothing).
+fn geometric_normals_at(bad: &[usize], positions: &[Vec3], indices: &[[u32; 3]], normals: &mut [Vec3]) {
+    let mut sum: std::collections::HashMap<u32, glam::DVec3> =
+        bad.iter().map(|&i| (i as u32, glam::DVec3::ZERO)).collect();
+    for t in indices {
+        if !t.iter().any(|v| sum.contains_key(v)) {
+            continue;
+        }
+        let [a, b, c] = t.map(|v| positions[v as usize].as_dvec3());
+        // Twice the area times the unit normal: area-weighted.
+        let n = (b - a).cross(c - a);
+        for v in t {
+            if let Some(s) = sum.get_mut(v) {
+                *s += n;
+            }
+        }
+    }
+    for (v, s) in sum {
+        let n = s.normalize_or_zero().as_vec3();
+        normals[v as usize] = if n == Vec3::ZERO || !n.is_finite() { Vec3::Z } else { n };
+    }
 }

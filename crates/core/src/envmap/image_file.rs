@@ -1,4 +1,4 @@
-//! Reading one environment image: Radiance `.hdr` (RGBE, through the image crate) or OpenEXR (exr crate), as
+//! Reading one environment image: Radiance `.hdr` (RGBE, through the image crate), OpenEXR (exr crate) or PFM, as
 //! linear RGB f32. NaN and negative texels become 0 (and are counted); infinite texels are an error.
 
 use super::EnvImage;
@@ -12,8 +12,12 @@ pub fn read(path: &Path) -> Result<(EnvImage, usize)> {
     let img = match ext.as_str() {
         "hdr" | "pic" => crate::io::read_hdr_from(std::io::BufReader::new(file), len, path)?,
         "exr" => crate::io::read_exr_from(std::io::BufReader::new(file), len, path)?,
+        "pfm" => {
+            drop(file);
+            crate::io::read_pfm_file(path)?
+        }
         _ => {
-            return Err(PrismError::format(path, "unsupported environment map format (expected .hdr or .exr)"));
+            return Err(PrismError::format(path, "unsupported environment map format (expected .hdr, .exr or .pfm)"));
         }
     };
     from_image(img, path)

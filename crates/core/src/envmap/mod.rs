@@ -1,5 +1,5 @@
-//! Environment maps: radiance from every direction, read from Radiance `.hdr` (RGBE) or OpenEXR files in one of
-//! three layouts, with bilinear lookup.
+//! Environment maps: radiance from every direction, read from Radiance `.hdr` (RGBE), OpenEXR or PFM files in one
+//! of four layouts, with bilinear lookup.
 //!
 //! **Direction convention** (env frame; the entity's transform rotates it into the world):
 //! - equirectangular (2:1): `u = 0.5 + atan2(x, -z) / 2 pi`, `v = acos(y) / pi`: the image centre is straight ahead
@@ -8,14 +8,18 @@
 //!   +x: (+x, +z, -y), -x: (-x, -z, -y), +y: (+y, +x, -z), -y: (-y, +x, +z), +z: (+z, -x, -y), -z: (-z, +x, -y).
 //!   A vertical cross (3 x 4 faces) holds +y (row 0, middle), -x, -z, +x (row 1), -y (row 2, middle) and +z (row 3,
 //!   middle, stored rotated by 180 degrees); six separate faces `px nx py ny pz nz` follow the three.js / OpenGL
-//!   cube-map convention (a world direction w is looked up as (-w.x, w.y, w.z) in the GL face tables).
+//!   cube-map convention (a world direction w is looked up as (-w.x, w.y, w.z) in the GL face tables);
+//! - equal-area octahedral (square, pbrt-v4's `imagemap` infinite lights): the centre is straight up (+y), the
+//!   corners straight down, every texel the same solid angle (`equal_area.rs`).
 //!
 //! Texels that are NaN or negative are replaced by 0 (counted in a warning); infinite texels are an error.
 
 mod cube;
+mod equal_area;
 mod image_file;
 
 pub use cube::{CUBE_FACES, FaceFrame, cube_coords, cube_direction, cube_jacobian, cube_texel_solid_angle};
+pub use equal_area::{EQUAL_AREA_JACOBIAN, equal_area_coords, equal_area_direction, octahedral_texel};
 
 use crate::error::{PrismError, Result};
 use crate::math::floor_f32;
@@ -59,6 +63,21 @@ impl EnvImage {
         let bottom = t(c0, r1) * (1.0 - fx) + t(c1, r1) * fx;
         top * (1.0 - fy) + bottom * fy
     }
+
+    /// Bilinear lookup at `uv` in [0,1]^2 of an equal-area square, folding over its edges as the sphere does.
+    #[inline]
+    fn bilinear_octahedral(&self, uv: Vec2) -> Vec3 {
+        let (w, h) = (self.width as i64, self.height as i64);
+        let x = uv.x * w as f32 - 0.5;
+        let y = uv.y * h as f32 - 0.5;
+        let (x0, y0) = (floor_f32(x), floor_f32(y));
+        let (fx, fy) = (x - x0, y - y0);
+        let (x0, y0) = (x0 as i64, y0 as i64);
+        let t = |x: i64, y: i64| self.texels[EnvLayout::EqualArea.texel_index(x, y, w, h)];
+        let top = t(x0, y0) * (1.0 - fx) + t(x0 + 1, y0) * fx;
+        let bottom = t(x0, y0 + 1) * (1.0 - fx) + t(x0 + 1, y0 + 1) * fx;
+        top * (1.0 - fy) + bottom * fy
+    }
 }
 
 /// How the map's images are arranged.
@@ -68,6 +87,23 @@ pub enum EnvLayout {
     Equirect,
     /// Six square faces in the order +x, -x, +y, -y, +z, -z.
     Cube,
+    /// One square, pbrt-v4's equal-area octahedral mapping.
+    EqualArea,
+}
+
+impl EnvLayout {
+    /// The index into a `w x h` image of the texel a lookup reads at integer coordinates `(x, y)`, which may lie
+    /// one texel outside: x wraps around a panorama, the square folds over its edges (octahedral), cube faces
+    /// clamp.
+    #[inline]
+    pub fn texel_index(self, x: i64, y: i64, w: i64, h: i64) -> usize {
+        let (x, y) = match self {
+            EnvLayout::Equirect => (x.rem_euclid(w), y.clamp(0, h - 1)),
+            EnvLayout::Cube => (x.clamp(0, w - 1), y.clamp(0, h - 1)),
+            EnvLayout::EqualArea => octahedral_texel(x, y, w, h),
+        };
+        (y * w + x) as usize
+    }
 }
 
 /// Layout of the file(s) a map is read from.
@@ -79,6 +115,8 @@ pub enum SourceLayout {
     Cross,
     /// Six square images `px nx py ny pz nz`, in the three.js / OpenGL cube-map convention.
     Faces,
+    /// One square image in pbrt-v4's equal-area octahedral mapping.
+    EqualArea,
 }
 
 /// An environment map: linear RGB radiance for every direction of its env frame.
@@ -182,12 +220,13 @@ impl EnvMap {
             Some(l) => l,
             None if w == 2 * h => SourceLayout::Equirect,
             None if 4 * w == 3 * h => SourceLayout::Cross,
+            None if w == h => SourceLayout::EqualArea,
             None => {
                 return Err(PrismError::format(
                     path,
                     format!(
-                        "cannot tell the layout of a {w}x{h} map: expected 2:1 (equirect) or 3:4 (vertical cross); \
-                         give `layout: Equirect` to use it as a panorama"
+                        "cannot tell the layout of a {w}x{h} map: expected 2:1 (equirect), 3:4 (vertical cross) or \
+                         square (equal-area octahedral); give `layout: Equirect` to use it as a panorama"
                     ),
                 ));
             }
@@ -202,6 +241,12 @@ impl EnvMap {
                     ));
                 }
                 cube::from_cross(&image)
+            }
+            SourceLayout::EqualArea => {
+                if w != h {
+                    return Err(PrismError::format(path, format!("an equal-area map must be square, got {w}x{h}")));
+                }
+                EnvMap { layout: EnvLayout::EqualArea, images: vec![image], clamped_texels: 0 }
             }
             SourceLayout::Faces => unreachable!("faces are six files"),
         };
@@ -218,6 +263,7 @@ impl EnvMap {
                 let (face, uv) = cube_coords(d);
                 self.images[face].bilinear(uv, false)
             }
+            EnvLayout::EqualArea => self.images[0].bilinear_octahedral(equal_area_coords(d)),
         }
     }
 
@@ -227,6 +273,7 @@ impl EnvMap {
         match self.layout {
             EnvLayout::Equirect => (0, equirect_coords(d)),
             EnvLayout::Cube => cube_coords(d),
+            EnvLayout::EqualArea => (0, equal_area_coords(d)),
         }
     }
 
@@ -236,16 +283,18 @@ impl EnvMap {
         match self.layout {
             EnvLayout::Equirect => equirect_direction(uv),
             EnvLayout::Cube => cube_direction(image, uv),
+            EnvLayout::EqualArea => equal_area_direction(uv),
         }
     }
 
     /// Solid angle per unit (u, v) area at a point of an image: 2 pi^2 sin(theta) for equirect, the face
-    /// Jacobian 4 / (1 + s^2 + t^2)^(3/2) for cube faces.
+    /// Jacobian 4 / (1 + s^2 + t^2)^(3/2) for cube faces, 4 pi for the equal-area square.
     #[inline]
     pub fn jacobian(&self, uv: Vec2) -> f32 {
         match self.layout {
             EnvLayout::Equirect => 2.0 * PI * PI * (uv.y * PI).sin(),
             EnvLayout::Cube => cube_jacobian(uv),
+            EnvLayout::EqualArea => EQUAL_AREA_JACOBIAN,
         }
     }
 
@@ -253,14 +302,10 @@ impl EnvMap {
     /// bilinearly filtered value over its footprint (the lookup's 3x3 kernel, with its wrap/clamp rules) times the
     /// texel's exact solid angle. Exact for maps that are constant per face and to second order otherwise.
     pub fn integral(&self) -> Vec3 {
-        let wrap_x = self.layout == EnvLayout::Equirect;
         let mut sum = glam::DVec3::ZERO;
         for (k, img) in self.images.iter().enumerate() {
             let (w, h) = (img.width as i64, img.height as i64);
-            let at = |x: i64, y: i64| {
-                let x = if wrap_x { x.rem_euclid(w) } else { x.clamp(0, w - 1) };
-                img.texels[(y.clamp(0, h - 1) * w + x) as usize].as_dvec3()
-            };
+            let at = |x: i64, y: i64| img.texels[self.layout.texel_index(x, y, w, h)].as_dvec3();
             for y in 0..h {
                 for x in 0..w {
                     let edges = at(x - 1, y) + at(x + 1, y) + at(x, y - 1) + at(x, y + 1);
@@ -283,6 +328,7 @@ impl EnvMap {
                 ((t0.cos() - t1.cos()) * 2.0 * std::f64::consts::PI / img.width as f64) as f32
             }
             EnvLayout::Cube => cube_texel_solid_angle(img.width, x, y),
+            EnvLayout::EqualArea => 4.0 * PI / (img.width as f32 * img.height as f32),
         }
     }
 }

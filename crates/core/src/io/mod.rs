@@ -4,10 +4,12 @@
 mod files;
 mod image_read;
 mod output_check;
+mod pfm;
 
 pub use files::{file_kind, open_regular, read_regular, read_regular_text, restrict_reads};
 pub use image_read::{read_exr_bytes, read_exr_file, read_exr_from, read_hdr_bytes, read_hdr_file, read_hdr_from};
 pub use output_check::{check_outputs, check_writable_dir, same_file};
+pub use pfm::{read_pfm_bytes, read_pfm_file};
 
 use crate::error::{PrismError, Result};
 use glam::Vec3;
@@ -197,7 +199,7 @@ pub fn decode_checked<R: std::io::BufRead + std::io::Seek>(
     image::DynamicImage::from_decoder(decoder).map_err(|e| e.to_string())
 }
 
-/// Read an EXR (linear), Radiance HDR (linear) or PNG (sRGB, converted to linear) image. Sizes claimed by a
+/// Read an EXR (linear), Radiance HDR (linear), PFM (linear) or PNG (sRGB, converted to linear) image. Sizes claimed by a
 /// file's header are checked before anything is allocated (see `image_read.rs`).
 pub fn read_image(path: &Path) -> Result<Image> {
     open_regular(path, "image file")?;
@@ -205,6 +207,7 @@ pub fn read_image(path: &Path) -> Result<Image> {
     match ext.as_str() {
         "exr" => read_exr_file(path),
         "hdr" => read_hdr_file(path),
+        "pfm" => read_pfm_file(path),
         "png" => {
             let (file, _) = open_regular(path, "image file")?;
             let mut reader = image::ImageReader::with_format(std::io::BufReader::new(file), image::ImageFormat::Png);
@@ -228,7 +231,10 @@ pub fn read_image(path: &Path) -> Result<Image> {
                 .collect();
             Ok(Image::new(w, h, pixels))
         }
-        _ => Err(PrismError::invalid(format!("{}: unsupported image format (use .exr, .hdr or .png)", path.display()))),
+        _ => Err(PrismError::invalid(format!(
+            "{}: unsupported image format (use .exr, .hdr, .pfm or .png)",
+            path.display()
+        ))),
     }
 }
 

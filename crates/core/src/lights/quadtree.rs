@@ -63,13 +63,12 @@ pub struct EnvSample {
 impl QuadTree {
     /// Build over `map`; `None` when the map is black.
     pub fn build(map: &EnvMap) -> Option<QuadTree> {
-        let wrap_x = map.layout == EnvLayout::Equirect;
         let weights: Vec<Vec<f64>> = map
             .images
             .iter()
             .enumerate()
             .map(|(k, img)| {
-                let filtered = filtered_luminance(img, wrap_x);
+                let filtered = filtered_luminance(img, map.layout);
                 let mut w = Vec::with_capacity(img.texels.len());
                 for y in 0..img.height {
                     for x in 0..img.width {
@@ -231,14 +230,11 @@ impl QuadTree {
 }
 
 /// Mean over each texel's footprint of the bilinearly interpolated luminance (the lookup's own filter): the 3x3
-/// kernel (1, 6, 1; 6, 36, 6; 1, 6, 1) / 64, wrapping x when the lookup wraps and clamping otherwise.
-fn filtered_luminance(img: &EnvImage, wrap_x: bool) -> Vec<f64> {
+/// kernel (1, 6, 1; 6, 36, 6; 1, 6, 1) / 64, with the lookup's own rule past the edges.
+fn filtered_luminance(img: &EnvImage, layout: EnvLayout) -> Vec<f64> {
     let (w, h) = (img.width as i64, img.height as i64);
     let lum: Vec<f64> = img.texels.iter().map(|t| luminance(*t).max(0.0) as f64).collect();
-    let at = |x: i64, y: i64| {
-        let x = if wrap_x { x.rem_euclid(w) } else { x.clamp(0, w - 1) };
-        lum[(y.clamp(0, h - 1) * w + x) as usize]
-    };
+    let at = |x: i64, y: i64| lum[layout.texel_index(x, y, w, h)];
     let mut out = Vec::with_capacity(lum.len());
     for y in 0..h {
         for x in 0..w {

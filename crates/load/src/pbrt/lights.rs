@@ -6,8 +6,9 @@
 //! | `spot` `I`, `scale`, `from`, `to`, `coneangle` (30), `conedeltaangle` (5); v4 `power` | `Spot(intensity, position: from, target: to, cone_angle, falloff: conedeltaangle, profile: quartic` (v3) `/ smoothstep` (v4)`)` |
 //! | `distant` `L`, `scale`, `from` (0 0 0), `to` (0 0 1) | `Directional(irradiance: L scale, direction: to - from)` |
 //! | `infinite` `L`, `scale` | `Environment(radiance: L scale)` |
-//! | v3 `infinite` `mapname` (equirect, +z up, u = phi / 2 pi from +x) | `Environment(map, radiance: L scale)`, the transform times the fixed rotation from pbrt's map frame to Prism's |
-//! | `AreaLightSource "diffuse"` `L`, `scale`, `twosided`; v4 `filename` | `Area(radiance: L scale, two_sided, texture)` on the following shapes of the scope |
+//! | v3 `infinite` `mapname` (equirect, +z up, u = phi / 2 pi from +x) | `Environment(map, layout: Equirect, radiance: L scale)`, the transform times the fixed rotation from pbrt's map frame to Prism's |
+//! | v4 `infinite` `filename` (equal-area octahedral square, +z at the centre), `scale` | `Environment(map, layout: EqualArea, radiance: scale)`, the same rotation; `illuminance` is ignored with a warning |
+//! | `AreaLightSource "diffuse"` (v3 also `"area"`) `L`, `scale`, `twosided`; v4 `filename` | `Area(radiance: L scale, two_sided, texture)` on the following shapes of the scope |
 //!
 //! Colours: `rgb`/`color` as they are, `blackbody` (v3 `[T scale]`: peak-normalised Planck spectrum; v4 `T`:
 //! normalised to luminance 1, as pbrt-v4 normalises light spectra), sampled spectra through the CIE curves.
@@ -28,7 +29,8 @@ fn bad(pos: &SourcePos, m: String) -> PrismError {
 #[derive(Clone, Debug)]
 pub struct EnvSpec {
     pub radiance: [f64; 3],
-    pub map: Option<String>,
+    /// The map's path and its layout's RON name (`Equirect` for pbrt-v3 `mapname`, `EqualArea` for v4 `filename`).
+    pub map: Option<(String, &'static str)>,
     pub transform: DMat4,
     pub label: String,
 }
@@ -41,8 +43,8 @@ impl EnvSpec {
             matrix_op(&self.transform),
             tuple3(self.radiance)
         );
-        if let Some(m) = &self.map {
-            let _ = write!(s, ", map: Some({}), layout: Some(Equirect)", quote(m));
+        if let Some((m, layout)) = &self.map {
+            let _ = write!(s, ", map: Some({}), layout: Some({layout})", quote(m));
         }
         s.push_str("))");
         s
@@ -136,22 +138,27 @@ pub fn light_source(c: &mut Converter, ty: &str, p: &Params, pos: &SourcePos) ->
         }
         "infinite" => {
             let l = light_rgb(c, p, "L", pos)?;
+            // pbrt-v3's `mapname` is an equirect panorama, pbrt-v4's `filename` an equal-area octahedral square.
             let map = match (p.string("mapname")?, p.string("filename")?) {
-                (Some(m), _) => {
+                (Some(m), _) => Some((m, "Equirect")),
+                (None, Some(f)) => Some((f, "EqualArea")),
+                (None, None) => None,
+            };
+            let map = match map {
+                Some((m, layout)) => {
                     let path = c.resolve(&m);
                     if !path.is_file() {
                         return Err(bad(pos, format!("infinite light: map not found: {}", path.display())));
                     }
-                    Some(c.ron_path(&path))
+                    Some((c.ron_path(&path), layout))
                 }
-                (None, Some(f)) => {
-                    c.warn(format!("infinite light \"filename\" {f}: pbrt-v4's equal-area octahedral maps are not supported; using the constant L"));
-                    None
-                }
-                (None, None) => None,
+                None => None,
             };
-            for q in ["samples", "portal", "illuminance"] {
+            for q in ["samples", "portal"] {
                 p.has(q);
+            }
+            if p.has("illuminance") {
+                c.warn("infinite light \"illuminance\" is ignored (the map's values times \"scale\" are the radiance)");
             }
             let transform = c.ctm * pbrt_to_prism_map().inverse();
             match &mut c.environment {
@@ -180,8 +187,9 @@ pub fn light_source(c: &mut Converter, ty: &str, p: &Params, pos: &SourcePos) ->
 
 /// An `AreaLightSource` directive: the emitter of the following shapes in the scope.
 pub fn area_light_source(c: &mut Converter, ty: &str, p: &Params, pos: &SourcePos) -> Result<()> {
-    if ty != "diffuse" {
-        return Err(bad(pos, format!("AreaLightSource \"{ty}\": only \"diffuse\" area lights exist")));
+    // pbrt-v3 also accepts "area", its older name of the diffuse area light.
+    if ty != "diffuse" && ty != "area" {
+        return Err(bad(pos, format!("AreaLightSource \"{ty}\": only \"diffuse\" (or \"area\") area lights exist")));
     }
     let radiance = light_rgb(c, p, "L", pos)?;
     let two_sided = p.bool("twosided", false)?;
