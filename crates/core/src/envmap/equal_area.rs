@@ -46,7 +46,7 @@ fn sphere_to_square_pbrt(d: Vec3A) -> Vec2 {
     Vec2::new((0.5 * (u + 1.0)).clamp(0.0, 1.0), (0.5 * (v + 1.0)).clamp(0.0, 1.0))
 }
 
-/// Square coordinates (u right, v down, in [0,1]^2) of a unit direction of Prism's env frame.
+/// Square coordinates (u right, v down, in `[0, 1]^2`) of a unit direction of Prism's env frame.
 #[inline]
 pub fn equal_area_coords(d: Vec3A) -> Vec2 {
     sphere_to_square_pbrt(Vec3A::new(d.z, -d.x, d.y))

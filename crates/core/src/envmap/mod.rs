@@ -64,7 +64,7 @@ impl EnvImage {
         top * (1.0 - fy) + bottom * fy
     }
 
-    /// Bilinear lookup at `uv` in [0,1]^2 of an equal-area square, folding over its edges as the sphere does.
+    /// Bilinear lookup at `uv` in `[0, 1]^2` of an equal-area square, folding over its edges as the sphere does.
     #[inline]
     fn bilinear_octahedral(&self, uv: Vec2) -> Vec3 {
         let (w, h) = (self.width as i64, self.height as i64);
