@@ -332,11 +332,16 @@ fn compare_json_is_valid_json_when_metrics_are_infinite() {
 #[test]
 fn a_forced_equirect_layout_is_used_whatever_the_aspect_ratio() {
     use prism::envmap::{EnvLayout, EnvMap, SourceLayout};
-    // A square map (no guessable layout) forced to equirect: the given layout used to be ignored.
+    // A 3:2 map (no guessable layout) forced to equirect: the given layout used to be ignored.
+    let odd = prism::io::Image::new(6, 4, vec![glam::Vec3::ONE; 24]);
+    let m = EnvMap::from_image(odd.clone(), std::path::Path::new("odd.exr"), Some(SourceLayout::Equirect)).unwrap();
+    assert_eq!(m.layout, EnvLayout::Equirect);
+    assert!(EnvMap::from_image(odd, std::path::Path::new("odd.exr"), None).is_err());
+    // A square one forced to equirect too (unforced, a square is pbrt-v4's equal-area layout).
     let square = prism::io::Image::new(4, 4, vec![glam::Vec3::ONE; 16]);
     let m = EnvMap::from_image(square.clone(), std::path::Path::new("sq.exr"), Some(SourceLayout::Equirect)).unwrap();
     assert_eq!(m.layout, EnvLayout::Equirect);
-    assert!(EnvMap::from_image(square, std::path::Path::new("sq.exr"), None).is_err());
+    assert_eq!(EnvMap::from_image(square, std::path::Path::new("sq.exr"), None).unwrap().layout, EnvLayout::EqualArea);
     let cross = data("envmaps/cross/grace_cross.hdr");
     let m = EnvMap::load(std::slice::from_ref(&cross), Some(SourceLayout::Equirect)).unwrap();
     assert_eq!(m.layout, EnvLayout::Equirect);
