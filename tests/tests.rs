@@ -8,6 +8,7 @@ mod accel_cli;
 mod adaptive;
 mod analytic;
 mod appearance;
+mod bitterli;
 mod bvh_build;
 mod bvh_traversal;
 mod clear_shadows;

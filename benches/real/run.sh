@@ -3,7 +3,7 @@
 #
 #   benches/real/run.sh [SECONDS] [OUT]     (defaults: 20 s per scene, target/real)
 #
-# Each scene renders at a quarter of its resolution for SECONDS with 2 threads and the integrator its file asks for
+# Each scene renders at a quarter of its reference's resolution for SECONDS with 2 threads and the integrator its file asks for
 # (as Prism imports it). The reference is box-filtered to the same size by `prism compare`. Writes OUT/table.md
 # (mean ratio per channel, relMSE, RMSE, set-up time, peak memory, warnings) and OUT/NAME.png beside
 # OUT/NAME-reference.png. Scenes whose files are incomplete in the source (see the data's MANIFEST.md) are listed
@@ -26,10 +26,22 @@ for dir in "$DATA"/*/; do
   scene="$dir/scene-v4.pbrt"
   ref="$dir/TungstenRender.exr"
   [ -f "$scene" ] && [ -f "$ref" ] || continue
-  # The file's resolution, quartered.
-  xres=$(grep -A3 '"integer xresolution"' "$scene" | grep -o 'xresolution" \[ *[0-9]*' | grep -o '[0-9]*$' | head -1)
-  yres=$(grep -A3 '"integer yresolution"' "$scene" | grep -o 'yresolution" \[ *[0-9]*' | grep -o '[0-9]*$' | head -1)
-  size="$((xres / 4))x$((yres / 4))"
+  # A quarter of the reference's resolution (the files' Film lines are often commented alternatives).
+  size=$(python3 - "$ref" <<'PY'
+import struct, sys
+# The dataWindow attribute of the EXR header: name, type, size, then four int32.
+b = open(sys.argv[1], "rb").read(1 << 16)
+at = 8
+while b[at] != 0:
+    name_end = b.index(b"\0", at); name = b[at:name_end]
+    type_end = b.index(b"\0", name_end + 1)
+    (n,) = struct.unpack_from("<i", b, type_end + 1)
+    if name == b"dataWindow":
+        x0, y0, x1, y1 = struct.unpack_from("<4i", b, type_end + 5)
+        print("%dx%d" % ((x1 - x0 + 1) // 4, (y1 - y0 + 1) // 4)); break
+    at = type_end + 5 + n
+PY
+)
   log="$OUT/$name.log"
   if ! /usr/bin/time -f "peak_kb %M" "$P" render "$scene" --size "$size" --time "$SECONDS_PER_SCENE" --threads 2 \
       -o "$OUT/$name.exr" -o "$OUT/$name.png" > "$log" 2>&1; then
