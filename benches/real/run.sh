@@ -63,7 +63,7 @@ PY
   setup=$(grep -o '[0-9.]* s setup' "$log" | grep -o '^[0-9.]*' | tail -1)
   spp=$(grep -o '[0-9]* spp' "$log" | grep -o '^[0-9]*' | tail -1)
   peak=$(( $(grep -o 'peak_kb [0-9]*' "$log" | grep -o '[0-9]*$') / 1024 ))
-  warnings=$(grep '^warning:' "$log" | grep -v 'output name' | sed 's/^warning: [^:]*: //; s/|/\\|/g' | paste -sd ';' - || true)
+  warnings=$(grep '^warning:' "$log" | grep -v 'output name' | sed 's/^warning: //; s/^[^ ]*\.pbrt: //; s/|/\\|/g' | paste -sd ';' - || true)
   printf '| %s | %s | %s | %s | %s | %s | %s | %s | %s |\n' "$name" "$size" "$ratio" "$relmse" "$rmse" \
     "$setup" "$spp" "$peak" "$warnings" >> "$TABLE"
   python3 - "$ref" "$OUT/$name-reference.png" "$size" <<'PY' || true
