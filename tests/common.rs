@@ -279,3 +279,34 @@ pub fn forged_hdr(width: u32, height: u32, tail: &[u8]) -> Vec<u8> {
     h.extend_from_slice(tail);
     h
 }
+
+fn crc32(bytes: &[u8]) -> u32 {
+    let mut c = !0u32;
+    for &b in bytes {
+        c ^= b as u32;
+        for _ in 0..8 {
+            c = if c & 1 != 0 { 0xEDB8_8320 ^ (c >> 1) } else { c >> 1 };
+        }
+    }
+    !c
+}
+
+/// A PNG of `w x h` pixels (colour type `ty`, bit depth `depth`) that holds its header and an empty data stream,
+/// no pixels: decoders learn the size first.
+pub fn png_header_only(w: u32, h: u32, depth: u8, ty: u8) -> Vec<u8> {
+    let chunk = |kind: &[u8], data: &[u8]| {
+        let mut out = (data.len() as u32).to_be_bytes().to_vec();
+        let body = [kind, data].concat();
+        out.extend_from_slice(&body);
+        out.extend_from_slice(&crc32(&body).to_be_bytes());
+        out
+    };
+    let ihdr = [&w.to_be_bytes()[..], &h.to_be_bytes()[..], &[depth, ty, 0, 0, 0]].concat();
+    [
+        &b"\x89PNG\r\n\x1a\n"[..],
+        &chunk(b"IHDR", &ihdr),
+        &chunk(b"IDAT", &[0x78, 0x9c, 0x03, 0, 0, 0, 0, 1]),
+        &chunk(b"IEND", &[]),
+    ]
+    .concat()
+}

@@ -115,42 +115,11 @@ fn a_ply_element_without_properties_cannot_claim_a_huge_count() {
     assert!(t0.elapsed() < Duration::from_secs(10));
 }
 
-/// A PNG of `w x h` 8-bit grey pixels that holds its header and no pixels: the decoder learns the size first.
-fn png_header_only(w: u32, h: u32) -> Vec<u8> {
-    fn crc32(bytes: &[u8]) -> u32 {
-        let mut c = !0u32;
-        for &b in bytes {
-            c ^= b as u32;
-            for _ in 0..8 {
-                c = if c & 1 != 0 { 0xEDB8_8320 ^ (c >> 1) } else { c >> 1 };
-            }
-        }
-        !c
-    }
-    let chunk = |ty: &[u8], data: &[u8]| {
-        let mut out = (data.len() as u32).to_be_bytes().to_vec();
-        let mut body = ty.to_vec();
-        body.extend_from_slice(data);
-        out.extend_from_slice(&body);
-        out.extend_from_slice(&crc32(&body).to_be_bytes());
-        out
-    };
-    let mut ihdr = w.to_be_bytes().to_vec();
-    ihdr.extend_from_slice(&h.to_be_bytes());
-    ihdr.extend_from_slice(&[8, 0, 0, 0, 0]);
-    let mut png = b"\x89PNG\r\n\x1a\n".to_vec();
-    png.extend(chunk(b"IHDR", &ihdr));
-    // The first data chunk (an empty zlib stream): decoders read the header up to it.
-    png.extend(chunk(b"IDAT", &[0x78, 0x9c, 0x03, 0x00, 0x00, 0x00, 0x00, 0x01]));
-    png.extend(chunk(b"IEND", &[]));
-    png
-}
-
 #[test]
 fn png_textures_are_held_to_the_decoded_pixel_cap() {
     let dir = scratch("uf-png-cap");
     // 16384 x 16384 grey is within the side limit and four times the 2^26-pixel cap.
-    let png = file(&dir, "huge.png", png_header_only(16384, 16384));
+    let png = file(&dir, "huge.png", crate::common::png_header_only(16384, 16384, 8, 0));
     let scene = file(
         &dir,
         "tex.ron",

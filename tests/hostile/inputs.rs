@@ -4,37 +4,8 @@
 //! symbolic links and percent-encoded glTF URIs.
 
 use super::{Case, Expect, dir};
+use crate::common::png_header_only;
 use std::path::PathBuf;
-
-fn crc32(bytes: &[u8]) -> u32 {
-    let mut c = !0u32;
-    for &b in bytes {
-        c ^= b as u32;
-        for _ in 0..8 {
-            c = if c & 1 != 0 { 0xEDB8_8320 ^ (c >> 1) } else { c >> 1 };
-        }
-    }
-    !c
-}
-
-/// A PNG of `w x h` pixels (colour type `ty`, bit depth `depth`) holding an empty data stream.
-fn png(w: u32, h: u32, depth: u8, ty: u8) -> Vec<u8> {
-    let chunk = |kind: &[u8], data: &[u8]| {
-        let mut out = (data.len() as u32).to_be_bytes().to_vec();
-        let body = [kind, data].concat();
-        out.extend_from_slice(&body);
-        out.extend_from_slice(&crc32(&body).to_be_bytes());
-        out
-    };
-    let ihdr = [&w.to_be_bytes()[..], &h.to_be_bytes()[..], &[depth, ty, 0, 0, 0]].concat();
-    [
-        &b"\x89PNG\r\n\x1a\n"[..],
-        &chunk(b"IHDR", &ihdr),
-        &chunk(b"IDAT", &[0x78, 0x9c, 0x03, 0, 0, 0, 0, 1]),
-        &chunk(b"IEND", &[]),
-    ]
-    .concat()
-}
 
 /// A baseline JPEG header (SOI, a start-of-frame of `w x h`, 3 components) and nothing else.
 fn jpeg(w: u16, h: u16) -> Vec<u8> {
@@ -65,7 +36,7 @@ fn texture_cases(v: &mut Vec<Case>) {
             put(
                 &format!("PNG {w}x{h}, depth {depth}, type {ty}"),
                 &format!("p{w}x{h}_{depth}_{ty}.png"),
-                png(w, h, depth, ty),
+                png_header_only(w, h, depth, ty),
                 expect,
             );
         }
@@ -73,7 +44,7 @@ fn texture_cases(v: &mut Vec<Case>) {
     for (w, h) in [(65535u16, 65535u16), (16384, 16384), (0, 0), (8, 8)] {
         put(&format!("JPEG header {w}x{h}"), &format!("j{w}x{h}.jpg"), jpeg(w, h), Expect::Error);
     }
-    put("a PNG named .jpg", "mislabelled.jpg", png(16384, 16384, 8, 0), Expect::Error);
+    put("a PNG named .jpg", "mislabelled.jpg", png_header_only(16384, 16384, 8, 0), Expect::Error);
     put("text named .png", "text.png", b"not an image".to_vec(), Expect::Error);
     put("an empty .png", "empty.png", vec![], Expect::Error);
     for (name, path, expect) in files {

@@ -46,38 +46,44 @@ impl EnvImage {
         self.texels[(y * self.width + x) as usize]
     }
 
+    /// The texel `(x0, y0)` up-left of the continuous coordinates `uv` (in texels, texel centres at `k + 0.5`)
+    /// and the bilinear weights `(fx, fy)` towards `(x0 + 1, y0 + 1)`.
+    #[inline]
+    fn bilinear_corner(&self, uv: Vec2) -> (i64, i64, f32, f32) {
+        let x = uv.x * self.width as f32 - 0.5;
+        let y = uv.y * self.height as f32 - 0.5;
+        let (x0, y0) = (floor_f32(x), floor_f32(y));
+        (x0 as i64, y0 as i64, x - x0, y - y0)
+    }
+
     /// Bilinear lookup at continuous coordinates `uv` in [0,1]^2; x wraps when `wrap_x`, otherwise clamps.
     #[inline]
     fn bilinear(&self, uv: Vec2, wrap_x: bool) -> Vec3 {
-        let (w, h) = (self.width as i64, self.height as i64);
-        let x = uv.x * w as f32 - 0.5;
-        let y = uv.y * h as f32 - 0.5;
-        let (x0, y0) = (floor_f32(x), floor_f32(y));
-        let (fx, fy) = (x - x0, y - y0);
-        let (x0, y0) = (x0 as i64, y0 as i64);
+        let (x0, y0, fx, fy) = self.bilinear_corner(uv);
         // The image textures' index wrapping (which skips the division where both indices lie inside the image).
         let (c0, c1) = if wrap_x { Wrap::Repeat } else { Wrap::Clamp }.index_pair(x0, self.width);
         let (r0, r1) = Wrap::Clamp.index_pair(y0, self.height);
         let t = |c: usize, r: usize| self.texels[r * self.width as usize + c];
-        let top = t(c0, r0) * (1.0 - fx) + t(c1, r0) * fx;
-        let bottom = t(c0, r1) * (1.0 - fx) + t(c1, r1) * fx;
-        top * (1.0 - fy) + bottom * fy
+        lerp_corners([t(c0, r0), t(c1, r0), t(c0, r1), t(c1, r1)], fx, fy)
     }
 
-    /// Bilinear lookup at `uv` in `[0, 1]^2` of an equal-area square, folding over its edges as the sphere does.
+    /// Bilinear lookup at `uv` in `[0, 1]^2` of an equal-area square, folding over its edges as the sphere does
+    /// (the fold couples x and y, so the corners are not a product of column and row pairs).
     #[inline]
     fn bilinear_octahedral(&self, uv: Vec2) -> Vec3 {
+        let (x0, y0, fx, fy) = self.bilinear_corner(uv);
         let (w, h) = (self.width as i64, self.height as i64);
-        let x = uv.x * w as f32 - 0.5;
-        let y = uv.y * h as f32 - 0.5;
-        let (x0, y0) = (floor_f32(x), floor_f32(y));
-        let (fx, fy) = (x - x0, y - y0);
-        let (x0, y0) = (x0 as i64, y0 as i64);
         let t = |x: i64, y: i64| self.texels[EnvLayout::EqualArea.texel_index(x, y, w, h)];
-        let top = t(x0, y0) * (1.0 - fx) + t(x0 + 1, y0) * fx;
-        let bottom = t(x0, y0 + 1) * (1.0 - fx) + t(x0 + 1, y0 + 1) * fx;
-        top * (1.0 - fy) + bottom * fy
+        lerp_corners([t(x0, y0), t(x0 + 1, y0), t(x0, y0 + 1), t(x0 + 1, y0 + 1)], fx, fy)
     }
+}
+
+/// Bilinear interpolation of the corners (top-left, top-right, bottom-left, bottom-right).
+#[inline]
+fn lerp_corners(c: [Vec3; 4], fx: f32, fy: f32) -> Vec3 {
+    let top = c[0] * (1.0 - fx) + c[1] * fx;
+    let bottom = c[2] * (1.0 - fx) + c[3] * fx;
+    top * (1.0 - fy) + bottom * fy
 }
 
 /// How the map's images are arranged.
