@@ -1,7 +1,8 @@
 //! glTF import: every sample file renders; a Cornell box written here as glTF renders like
 //! `scenes/cornell_box.ron` within noise (and stores its shared cube once); supplied tangents agree with
 //! generated MikkTSpace ones; photometric lights convert at 683 lm/W; alpha cut-outs let camera and shadow rays
-//! through exactly as much as alpha says; malformed files are one-line errors.
+//! through exactly as much as alpha says; malformed files are one-line errors; `--camera` by name or index; a
+//! model with only emissive surfaces gets the default sky; the automatic camera ignores a huge ground plane.
 
 use crate::common::{app_from_file, data, render_file, render_ron, scratch};
 use base64::Engine as _;
@@ -206,7 +207,9 @@ fn a_gltf_cornell_box_renders_like_the_ron_cornell_box_within_noise_and_stores_i
     let r0 = render_file(&ron, over(0));
     let r1 = render_file(&ron, over(1));
     let path = cornell_gltf();
-    let mut app = app_from_file(&path, over(0));
+    // Its only light is the emissive quad: without --no-default-light the white sky would shine in through the
+    // open front.
+    let mut app = app_from_file(&path, Overrides { no_default_light: true, ..over(0) });
     app.run().unwrap();
     let g = prism::stages::film_image(&app.resources).unwrap();
     // Four quad meshes and one cube mesh, though the cube is used twice.
@@ -458,24 +461,116 @@ fn malformed_gltf_files_are_one_line_errors() {
 }
 
 #[test]
-fn the_camera_option_picks_a_gltf_camera_by_name() {
+fn the_camera_option_picks_a_gltf_camera_by_name_or_by_index_in_node_order() {
     let mut d = Doc::default();
     d.materials.push(diffuse([0.5; 3], true, None));
     let q = d.mesh(&QUAD, &QUAD_IDX, 0);
     d.nodes.push(node(q, [0.0; 3], None, [1.0; 3]));
     d.cameras.push("{\"name\": \"near\", \"type\": \"perspective\", \"perspective\": {\"yfov\": 0.5, \"aspectRatio\": 2, \"znear\": 0.01}}".into());
+    // Unnamed, on an unnamed node (Cameras.gltf's orthographic camera): reachable by index only.
+    d.cameras.push(
+        "{\"type\": \"orthographic\", \"orthographic\": {\"xmag\": 1, \"ymag\": 1, \"znear\": 0.01, \"zfar\": 10}}"
+            .into(),
+    );
     d.cameras.push("{\"name\": \"ortho\", \"type\": \"orthographic\", \"orthographic\": {\"xmag\": 2, \"ymag\": 1, \"znear\": 0.01, \"zfar\": 10}}".into());
     d.nodes.push("{\"camera\": 0, \"translation\": [0, 0, 3]}".into());
-    d.nodes.push("{\"name\": \"side\", \"camera\": 1, \"translation\": [0, 0, 5]}".into());
+    d.nodes.push("{\"camera\": 1, \"translation\": [0, 0, 4]}".into());
+    d.nodes.push("{\"name\": \"side\", \"camera\": 2, \"translation\": [0, 0, 5]}".into());
     let path = d.write("cameras.gltf");
     let run = |camera: Option<&str>| {
         let mut app =
             app_from_file(&path, Overrides { spp: Some(1), camera: camera.map(str::to_string), ..Default::default() });
-        app.run().map(|_| (app.resources.settings.width, app.resources.settings.height))
+        app.run()?;
+        let ortho = app
+            .world
+            .query_mut::<&prism::camera::Camera>()
+            .into_iter()
+            .any(|c| matches!(c.projection, prism::camera::Projection::Orthographic { .. }));
+        Ok::<_, prism::error::PrismError>((app.resources.settings.width, app.resources.settings.height, ortho))
     };
-    assert_eq!(run(None).unwrap(), (960, 480), "the first camera, aspect ratio 2");
-    assert_eq!(run(Some("ortho")).unwrap(), (960, 480), "by camera name: xmag / ymag = 2");
-    assert_eq!(run(Some("side")).unwrap(), (960, 480), "by node name");
+    assert_eq!(run(None).unwrap(), (960, 480, false), "the first camera, aspect ratio 2");
+    assert_eq!(run(Some("ortho")).unwrap(), (960, 480, true), "by camera name: xmag / ymag = 2");
+    assert_eq!(run(Some("side")).unwrap(), (960, 480, true), "by node name");
+    assert_eq!(run(Some("1")).unwrap(), (480, 480, true), "by index: the unnamed square orthographic camera");
+    assert_eq!(run(Some("0")).unwrap(), (960, 480, false), "index 0 is the first camera");
     let e = run(Some("nope")).unwrap_err().to_string();
-    assert!(e.contains("no camera named 'nope'") && e.contains("near") && e.contains("ortho"), "{e}");
+    assert!(e.contains("no camera named or numbered 'nope'") && e.contains("0 'near'"), "{e}");
+    assert!(e.contains("1 (unnamed)") && e.contains("2 'ortho'"), "{e}");
+    let e = run(Some("3")).unwrap_err().to_string();
+    assert!(e.contains("'3'"), "{e}");
+}
+
+/// The mean of an image's pixels in the rows and columns of the fractions `[x0, x1) x [y0, y1)`.
+fn region_mean(img: &prism::io::Image, x: (f32, f32), y: (f32, f32)) -> f32 {
+    let (w, h) = (img.width as f32, img.height as f32);
+    let (mut sum, mut n) = (0.0, 0);
+    for py in (y.0 * h) as u32..(y.1 * h) as u32 {
+        for px in (x.0 * w) as u32..(x.1 * w) as u32 {
+            sum += img.get(px, py).element_sum() / 3.0;
+            n += 1;
+        }
+    }
+    sum / n as f32
+}
+
+#[test]
+fn a_model_lit_only_by_its_emissive_decals_gets_the_default_sky_unless_told_not_to() {
+    // An emissive quad (a decal) beside a grey one, no light: the sky must light the grey quad.
+    let mut d = Doc::default();
+    d.materials.push(diffuse([0.5; 3], true, None));
+    d.materials.push(diffuse([0.5; 3], true, Some([2.0, 2.0, 2.0])));
+    let grey = d.mesh(&QUAD, &QUAD_IDX, 0);
+    let decal = d.mesh(&QUAD, &QUAD_IDX, 1);
+    d.nodes.push(node(grey, [-1.0, 0.0, 0.0], None, [1.0; 3]));
+    d.nodes.push(node(decal, [1.0, 0.0, 0.0], None, [1.0; 3]));
+    d.cameras.push(format!(
+        "{{\"type\": \"perspective\", \"perspective\": {{\"yfov\": {}, \"aspectRatio\": 2, \"znear\": 0.01}}}}",
+        60f32.to_radians()
+    ));
+    d.nodes.push("{\"camera\": 0, \"translation\": [0, 0, 3]}".into());
+    let path = d.write("decals.gltf");
+    let o = |no_default_light| Overrides {
+        size: Some((32, 16)),
+        spp: Some(64),
+        no_default_light,
+        integrator: Some("envlight(max_depth: 2)".into()),
+        ..Default::default()
+    };
+    // Direct light only (quads at x in [-2, 0] and [0, 2] fill the image's columns 0.21-0.5 and 0.5-0.79, rows
+    // 0.21-0.79): a Lambert quad of albedo 0.5 under a uniform sky of 1 reflects 0.5 (half the sphere is
+    // sky behind it, the front hemisphere is all sky: the decal quad is coplanar and does not shadow).
+    let lit = render_file(&path, o(false));
+    let grey_px = region_mean(&lit, (0.26, 0.45), (0.3, 0.7));
+    assert!((grey_px - 0.5).abs() < 0.03, "grey quad under the default sky: {grey_px}, expected 0.5");
+    let decal_px = region_mean(&lit, (0.55, 0.74), (0.3, 0.7));
+    assert!((decal_px - 2.5).abs() < 0.1, "decal: emission 2 plus the sky's 0.5: {decal_px}");
+    let dark = render_file(&path, o(true));
+    assert_eq!(region_mean(&dark, (0.26, 0.45), (0.3, 0.7)), 0.0, "--no-default-light: nothing lights the grey quad");
+    let decal_px = region_mean(&dark, (0.55, 0.74), (0.3, 0.7));
+    assert!((decal_px - 2.0).abs() < 0.02, "the decal still emits 2: {decal_px}");
+}
+
+#[test]
+fn the_automatic_camera_frames_the_model_not_a_ground_plane_a_hundred_times_its_size() {
+    // TonemappingTest's layout: small objects on a huge ground quad, no camera.
+    let mut d = Doc::default();
+    d.materials.push(diffuse([0.8; 3], true, None));
+    let cube = prism::mesh::MeshData::unit_cube();
+    let pos: Vec<f32> = cube.positions.iter().flat_map(|p| p.to_array()).collect();
+    let idx: Vec<u32> = cube.indices.iter().flatten().copied().collect();
+    let cube = d.mesh(&pos, &idx, 0);
+    let ground = d.mesh(&QUAD, &QUAD_IDX, 0);
+    d.nodes.push(node(cube, [0.0, 0.5, 0.0], None, [1.0; 3]));
+    d.nodes.push(node(ground, [0.0; 3], Some(([1.0, 0.0, 0.0], -90.0)), [100.0; 3]));
+    let path = d.write("ground.gltf");
+    let o = Overrides { size: Some((32, 32)), spp: Some(4), ..Default::default() };
+    let mut app = app_from_file(&path, o);
+    app.setup().unwrap();
+    let cam = *app.world.query_mut::<&prism::camera::Camera>().into_iter().next().unwrap();
+    // Framing the cube's bounding sphere (the cube spans [-1, 1]^3: radius sqrt(3)) at 40 degrees: 1.1 sqrt(3) /
+    // sin(20 degrees) = 5.57 from its centre, not 300.
+    let dist = (cam.eye - cam.target).length();
+    assert!((dist - 5.57).abs() < 0.01, "camera {dist} from the cube's centre; the ground was framed");
+    assert!((cam.target - glam::Vec3::new(0.0, 0.5, 0.0)).length() < 1e-4, "looks at the cube: {}", cam.target);
+    assert!(cam.eye.z > cam.eye.x.abs(), "from the front (+z): {}", cam.eye);
 }

@@ -96,7 +96,7 @@ fn unknown_plugin_parameters_are_rejected_with_their_position() {
 fn the_schedule_runs_stages_in_the_documented_order() {
     let app = App::with(prism::DefaultPlugins);
     let order: Vec<Vec<&str>> = Stage::ALL.iter().map(|s| app.schedule().system_names(*s)).collect();
-    assert_eq!(order[0], ["load_scene", "check_outputs"]);
+    assert_eq!(order[0], ["load_scene", "apply_scene_overrides", "check_outputs"]);
     assert_eq!(order[1], ["propagate_transforms"]);
     assert_eq!(order[2], ["build_scene"]);
     assert_eq!(order[3], ["build_lights", "prepare_integrator"]);

@@ -43,6 +43,7 @@ mod report;
 mod resume;
 mod samplers;
 mod sampling;
+mod scene_overrides;
 mod scenes;
 mod stability;
 mod untrusted_formats;

@@ -182,6 +182,7 @@ pub fn run(args: RaytracerArgs) -> anyhow::Result<()> {
         shard: None,
         resume: None,
         camera: None,
+        view: super::render_cmd::ViewArgs::default(),
         exact_curves: o.exact_curves,
         allow_read: vec![],
     };

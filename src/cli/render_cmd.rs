@@ -3,9 +3,10 @@
 //! terminal, a one-paragraph summary on stderr.
 
 use clap::Args;
+use prism_core::envmap::SourceLayout;
 use prism_core::error::PrismError;
 use prism_core::sampling::{PixelFilter, PixelPattern, SamplerKind};
-use prism_core::settings::{AccelKind, GridResolution, Overrides};
+use prism_core::settings::{AccelKind, EnvOverride, GridResolution, Overrides, ViewOverride};
 use prism_engine::{App, SceneSource};
 use std::io::IsTerminal;
 use std::path::PathBuf;
@@ -74,9 +75,12 @@ pub struct RenderArgs {
     /// write it with `-o part.prism-film` and combine the parts with `prism merge`.
     #[arg(long, value_parser = parse_shard)]
     pub shard: Option<(u32, u32)>,
-    /// The camera to render from, by camera or node name, for scene files with several (glTF); default the first.
-    #[arg(long)]
+    /// The camera to render from, by camera or node name or by index in node order, for scene files with several
+    /// (glTF); default the first.
+    #[arg(long, value_name = "NAME|INDEX")]
     pub camera: Option<String>,
+    #[command(flatten)]
+    pub view: ViewArgs,
     /// Continue the render saved in a `.prism-film` file (same scene and settings); the result equals an
     /// uninterrupted render bit for bit.
     #[arg(long)]
@@ -89,6 +93,103 @@ pub struct RenderArgs {
     /// and a --resume film. For scenes from untrusted sources; by default every path is read.
     #[arg(long = "allow-read", value_name = "DIR")]
     pub allow_read: Vec<PathBuf>,
+}
+
+/// The light and the view of any scene, replacing the scene's.
+#[derive(Args, Debug, Clone)]
+pub struct ViewArgs {
+    /// Light the scene with this environment map (.hdr, .exr, .pfm, .png; any layout a RON `Environment` reads),
+    /// replacing the scene's environment lights.
+    #[arg(long, value_name = "FILE")]
+    pub env: Option<PathBuf>,
+    /// Scale the --env map's radiance.
+    #[arg(long, requires = "env", default_value_t = 1.0, value_name = "S")]
+    pub env_scale: f32,
+    /// Turn the --env map about +y by this many degrees.
+    #[arg(long, requires = "env", default_value_t = 0.0, allow_negative_numbers = true, value_name = "DEG")]
+    pub env_rotate: f32,
+    /// The --env map's layout: equirect, cross or equal-area (default: guessed from its shape).
+    #[arg(long, requires = "env", value_parser = parse_env_layout, value_name = "LAYOUT")]
+    pub env_layout: Option<SourceLayout>,
+    /// Light the scene with a uniform environment of this linear RGB radiance (`--sky 1,1,1`), replacing the
+    /// scene's environment lights.
+    #[arg(long, conflicts_with = "env", value_parser = parse_vec3, value_name = "R,G,B")]
+    pub sky: Option<glam::Vec3>,
+    /// Add no default light to a scene without lights (a bare OBJ/PLY's headlight, a glTF's white sky).
+    #[arg(long)]
+    pub no_default_light: bool,
+    /// Move the camera's eye to this world-space point (keeps what it looks at unless --look-at is given).
+    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true, value_name = "X,Y,Z")]
+    pub look_from: Option<glam::Vec3>,
+    /// Aim the camera at this world-space point.
+    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true, value_name = "X,Y,Z")]
+    pub look_at: Option<glam::Vec3>,
+    /// The camera's up direction (world space).
+    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true, value_name = "X,Y,Z")]
+    pub up: Option<glam::Vec3>,
+    /// The perspective camera's vertical field of view, degrees.
+    #[arg(long, value_name = "DEG")]
+    pub fov: Option<f32>,
+}
+
+impl Default for ViewArgs {
+    /// No override: the scene's light and view.
+    fn default() -> Self {
+        ViewArgs {
+            env: None,
+            env_scale: 1.0,
+            env_rotate: 0.0,
+            env_layout: None,
+            sky: None,
+            no_default_light: false,
+            look_from: None,
+            look_at: None,
+            up: None,
+            fov: None,
+        }
+    }
+}
+
+impl ViewArgs {
+    /// The overrides these flags set.
+    pub fn apply(&self, o: &mut Overrides) {
+        o.view = ViewOverride { from: self.look_from, at: self.look_at, up: self.up, fov: self.fov };
+        o.environment = match (&self.env, self.sky) {
+            (Some(path), _) => Some(EnvOverride::Map {
+                path: path.clone(),
+                scale: self.env_scale,
+                rotate_deg: self.env_rotate,
+                layout: self.env_layout,
+            }),
+            (None, Some(rgb)) => Some(EnvOverride::Sky(rgb)),
+            (None, None) => None,
+        };
+        o.no_default_light = self.no_default_light;
+    }
+}
+
+/// `equirect`, `cross` or `equal-area`.
+pub(super) fn parse_env_layout(s: &str) -> Result<SourceLayout, String> {
+    match s.trim().to_ascii_lowercase().as_str() {
+        "equirect" => Ok(SourceLayout::Equirect),
+        "cross" => Ok(SourceLayout::Cross),
+        "equal-area" | "equalarea" => Ok(SourceLayout::EqualArea),
+        _ => Err(format!("unknown layout '{s}' (expected equirect, cross or equal-area)")),
+    }
+}
+
+/// `X,Y,Z` (three finite numbers, commas or spaces between them).
+pub(super) fn parse_vec3(s: &str) -> Result<glam::Vec3, String> {
+    let parts: Vec<&str> = s.split([',', ' ']).filter(|p| !p.is_empty()).collect();
+    let nums: Vec<f32> = parts
+        .iter()
+        .map(|p| p.trim().parse::<f32>().map_err(|_| format!("'{p}' in '{s}' is not a number")))
+        .collect::<Result<_, _>>()?;
+    match nums[..] {
+        [x, y, z] if x.is_finite() && y.is_finite() && z.is_finite() => Ok(glam::Vec3::new(x, y, z)),
+        [_, _, _] => Err(format!("'{s}' has a number that is not finite")),
+        _ => Err(format!("expected three numbers X,Y,Z, got '{s}'")),
+    }
 }
 
 /// `K/N` with `K < N`.
@@ -222,7 +323,9 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
         shard: args.shard,
         camera: args.camera.clone(),
         exact_curves: args.exact_curves,
+        ..Overrides::default()
     };
+    args.view.apply(&mut r.overrides);
     r.outputs = outputs.clone();
     r.resume = args.resume.clone();
     // Checkpoints and interruptions save the film beside the first output (or in the .prism-film output).

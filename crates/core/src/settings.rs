@@ -397,6 +397,45 @@ pub fn default_pass_layout(spp: u32, adaptive: bool, shards: u32) -> (u32, Optio
     (1 + split(spp - pilot, MAX_DEFAULT_PASSES - 1, shards.saturating_sub(1)), Some(pilot))
 }
 
+/// The parts of the scene camera's view the command line replaces (`None` = keep the camera's), in world space.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ViewOverride {
+    /// The eye (`--look-from X,Y,Z`).
+    pub from: Option<glam::Vec3>,
+    /// The point looked at (`--look-at X,Y,Z`).
+    pub at: Option<glam::Vec3>,
+    /// The up hint (`--up X,Y,Z`).
+    pub up: Option<glam::Vec3>,
+    /// The vertical field of view in degrees of a perspective camera (`--fov DEG`).
+    pub fov: Option<f32>,
+}
+
+impl ViewOverride {
+    /// Whether any part of the view is replaced.
+    pub fn is_set(&self) -> bool {
+        self.from.is_some() || self.at.is_some() || self.up.is_some() || self.fov.is_some()
+    }
+}
+
+/// The environment the command line lights a scene with, replacing every environment light of the scene.
+#[derive(Clone, Debug, PartialEq)]
+pub enum EnvOverride {
+    /// An environment map (`--env FILE`, any layout the RON `Environment` light reads), times `scale`
+    /// (`--env-scale`), turned by `rotate_deg` degrees about +y (`--env-rotate`).
+    Map {
+        /// The image file.
+        path: std::path::PathBuf,
+        /// Radiance scale.
+        scale: f32,
+        /// Rotation about the world's +y axis, degrees.
+        rotate_deg: f32,
+        /// The map's layout (`--env-layout`); `None` guesses it from the image's shape.
+        layout: Option<crate::envmap::SourceLayout>,
+    },
+    /// A uniform environment of this radiance (`--sky R,G,B`).
+    Sky(glam::Vec3),
+}
+
 /// Command-line overrides of the scene's settings (`None` = keep the scene's).
 #[derive(Clone, Debug, Default)]
 pub struct Overrides {
@@ -428,8 +467,14 @@ pub struct Overrides {
     pub exposure: Option<f32>,
     /// Render shard `(k, n)` only (`--shard K/N`).
     pub shard: Option<(u32, u32)>,
-    /// The camera to render from, by name, in files that hold several (glTF).
+    /// The camera to render from, by name or by index in node order, in files that hold several (glTF).
     pub camera: Option<String>,
+    /// The view replacing the scene camera's (`--look-from`, `--look-at`, `--up`, `--fov`); world space.
+    pub view: ViewOverride,
+    /// The environment replacing the scene's (`--env`, `--sky`).
+    pub environment: Option<EnvOverride>,
+    /// Add no default light to a scene without one (`--no-default-light`): a bare mesh's headlight, a glTF's sky.
+    pub no_default_light: bool,
     /// Render curved surfaces exactly where the scene asks for a tessellation (RON `tessellation`, the meshes
     /// 6.837 assignment 8 scenes name).
     pub exact_curves: bool,

@@ -14,6 +14,7 @@ pub mod pbrt;
 mod plugin;
 pub mod ply;
 mod ron_scene;
+pub mod scene_overrides;
 pub mod schema;
 mod spawn;
 mod transform;
@@ -125,7 +126,7 @@ fn load_ply_scene(path: &Path, world: &mut World, res: &mut Resources) -> Result
     let name = Name(mesh.name.clone());
     let h = res.meshes.add(mesh);
     world.spawn((name, Shape::Mesh(h)));
-    spawn_framing_camera_and_headlight(world, lo, hi, path)?;
+    spawn_framing_camera_and_headlight(world, lo, hi, path, scene_overrides::default_light_allowed(&res.overrides))?;
     Ok(FileSettings::default())
 }
 
@@ -156,13 +157,19 @@ fn load_obj_scene(path: &Path, world: &mut World, res: &mut Resources) -> Result
             world.insert_one(e, Light::Area { radiance, two_sided: false, texture: None }).ok();
         }
     }
-    spawn_framing_camera_and_headlight(world, lo, hi, path)?;
+    spawn_framing_camera_and_headlight(world, lo, hi, path, scene_overrides::default_light_allowed(&res.overrides))?;
     Ok(FileSettings::default())
 }
 
-/// A 256 x 256 camera framing the box `[lo, hi]` from +z (fov 40) and a headlight along the view (irradiance pi).
-/// A box beyond Prism's coordinate limit is an error naming the mesh file (`path`).
-fn spawn_framing_camera_and_headlight(world: &mut World, lo: Vec3, hi: Vec3, path: &Path) -> Result<()> {
+/// A 256 x 256 camera framing the box `[lo, hi]` from +z (fov 40) and, with `headlight`, a headlight along the
+/// view (irradiance pi). A box beyond Prism's coordinate limit is an error naming the mesh file (`path`).
+fn spawn_framing_camera_and_headlight(
+    world: &mut World,
+    lo: Vec3,
+    hi: Vec3,
+    path: &Path,
+    headlight: bool,
+) -> Result<()> {
     let reach = lo.abs().max(hi.abs()).max_element();
     if lo.cmple(hi).all() && (reach.is_nan() || reach > prism_core::limits::MAX_COORDINATE) {
         return Err(PrismError::format(
@@ -193,10 +200,12 @@ fn spawn_framing_camera_and_headlight(world: &mut World, lo: Vec3, hi: Vec3, pat
             ..Camera::default()
         },
     ));
-    world.spawn((
-        Name("headlight".into()),
-        Light::Directional { irradiance: Vec3::splat(std::f32::consts::PI), direction: -Vec3::Z },
-    ));
+    if headlight {
+        world.spawn((
+            Name("headlight".into()),
+            Light::Directional { irradiance: Vec3::splat(std::f32::consts::PI), direction: -Vec3::Z },
+        ));
+    }
     Ok(())
 }
 

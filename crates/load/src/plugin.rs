@@ -3,7 +3,7 @@
 
 use prism_engine::{App, Plugin, Stage};
 
-/// The Load stage: `load_scene`, then `check_outputs`.
+/// The Load stage: `load_scene`, `apply_scene_overrides` (`--env`, `--sky`, the view), then `check_outputs`.
 pub struct LoadPlugin;
 
 impl Plugin for LoadPlugin {
@@ -12,10 +12,8 @@ impl Plugin for LoadPlugin {
     }
 
     fn build(&self, app: &mut App) {
-        app.add_system(Stage::Load, "load_scene", super::load_scene_system).add_system(
-            Stage::Load,
-            "check_outputs",
-            super::check_outputs_system,
-        );
+        app.add_system(Stage::Load, "load_scene", super::load_scene_system)
+            .add_system(Stage::Load, "apply_scene_overrides", super::scene_overrides::apply_scene_overrides)
+            .add_system(Stage::Load, "check_outputs", super::check_outputs_system);
     }
 }

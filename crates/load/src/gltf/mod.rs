@@ -10,14 +10,18 @@
 //!   indices, POSITION, NORMAL (flat shading without), TEXCOORD_0/1, TANGENT (MikkTSpace by the specification;
 //!   generated with MikkTSpace when absent and a normal map needs them).
 //! - Cameras: perspective (`yfov`, `aspectRatio`) and orthographic (`ymag`, `xmag`), looking down the node's -z;
-//!   `--camera NAME` picks one by camera or node name, default the first in node order; without a camera, one
-//!   framing the scene's bounding sphere from the front-right and above (direction (0.5, 0.4, 1)), 512 x 512. Images are 480 pixels tall (the aspect ratio's width; 640 without one).
+//!   `--camera NAME|INDEX` picks one by camera or node name, or by its index in node order, default the first.
+//!   Without a camera, one looks from the model's front (+z), right and above (direction (0.5, 0.4, 1)) at the
+//!   bounding sphere of what is drawn, leaving out planar parts (grounds, backdrops) more than 3 times the size
+//!   of the rest; 512 x 512. Images of a file's cameras are 480 pixels tall (the aspect ratio's width; 640
+//!   without one).
 //! - `KHR_lights_punctual`: photometric to radiometric with the luminous efficacy 683 lm/W (the candela's SI
 //!   definition, and what Blender's exporter multiplies watts by): point and spot `intensity` (cd) x colour / 683
 //!   = W/sr, directional (lux) / 683 = W/m^2; spot cones: `cone_angle` = outer, `falloff` = outer - inner, glTF's
 //!   squared linear fall-off; `range` is ignored (inverse square everywhere, reported). Emission (`material.rs`)
 //!   is taken as radiance 1:1, as viewers and Blender do.
-//! - No light at all: a note, and a uniform white environment of radiance 1, so a bare model still renders.
+//! - No light, or only emissive surfaces: a note, and a uniform white environment of radiance 1, so a bare model
+//!   still renders (not with `--no-default-light`, `--env` or `--sky`).
 //! - Skins, morph targets and animations are ignored with one warning each; an unknown *required* extension is
 //!   an error naming it.
 
@@ -62,8 +66,56 @@ struct Loader<'a> {
     cameras: Vec<(String, String, Camera, Entity)>,
     lights: usize,
     emitters: usize,
+    /// World bounds of every primitive drawn, for the automatic camera.
+    parts: Vec<PartBound>,
+}
+
+/// A drawn primitive's world-space box, and whether all its vertices lie in one plane (a ground or a backdrop).
+struct PartBound {
     lo: Vec3,
     hi: Vec3,
+    planar: bool,
+}
+
+impl PartBound {
+    fn of(positions: &[Vec3], m: &Mat4) -> Self {
+        let world: Vec<Vec3> = positions.iter().map(|p| m.transform_point3(*p)).collect();
+        let (lo, hi) = world.iter().fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(l, h), &p| (l.min(p), h.max(p)));
+        let diag = (hi - lo).length();
+        // The plane through the first vertex, the vertex farthest from it, and the vertex farthest from that line;
+        // planar when every vertex is within 1e-4 of the part's size of it.
+        let planar = world.first().is_some_and(|&a| {
+            let far = |f: &dyn Fn(Vec3) -> f32| world.iter().copied().max_by(|x, y| f(*x).total_cmp(&f(*y)));
+            let b = far(&|p| (p - a).length_squared()).unwrap_or(a);
+            let c = far(&|p| (b - a).cross(p - a).length_squared()).unwrap_or(a);
+            let n = (b - a).cross(c - a);
+            diag == 0.0
+                || (n.length() > 1e-12 * diag * diag
+                    && world.iter().all(|&p| (p - a).dot(n.normalize()).abs() <= 1e-4 * diag))
+        });
+        PartBound { lo, hi, planar }
+    }
+
+    fn diagonal(&self) -> f32 {
+        (self.hi - self.lo).length()
+    }
+}
+
+/// The box the automatic camera frames: every part, except planar parts (grounds, backdrops) more than 3 times the
+/// size of the box of the other parts, which would leave the model sub-pixel. `None` when nothing is drawn.
+fn framed_box(parts: &[PartBound]) -> Option<(Vec3, Vec3)> {
+    let union = |it: &mut dyn Iterator<Item = &PartBound>| {
+        it.fold(None, |acc: Option<(Vec3, Vec3)>, b| {
+            if !b.lo.cmple(b.hi).all() {
+                return acc;
+            }
+            Some(acc.map_or((b.lo, b.hi), |(l, h)| (l.min(b.lo), h.max(b.hi))))
+        })
+    };
+    let solid = union(&mut parts.iter().filter(|b| !b.planar));
+    let Some((lo, hi)) = solid else { return union(&mut parts.iter()) };
+    let size = (hi - lo).length();
+    union(&mut parts.iter().filter(|b| !b.planar || b.diagonal() <= 3.0 * size))
 }
 
 /// Load a glTF file into the world.
@@ -127,8 +179,7 @@ pub fn load_gltf_bytes(
         cameras: Vec::new(),
         lights: 0,
         emitters: 0,
-        lo: Vec3::INFINITY,
-        hi: Vec3::NEG_INFINITY,
+        parts: Vec::new(),
     };
     for ext in validated.extensions_used() {
         if !SUPPORTED.contains(&ext) {
@@ -155,9 +206,12 @@ pub fn load_gltf_bytes(
     }
     let want = res.overrides.camera.clone();
     l.spawn_camera(world, want.as_deref())?;
-    if l.lights == 0 && l.emitters == 0 {
+    // Emissive surfaces alone (decals, screens) rarely light a model: the sky is added then too.
+    if l.lights == 0 && crate::scene_overrides::default_light_allowed(&res.overrides) {
+        let what = if l.emitters == 0 { "no lights" } else { "no lights but emissive surfaces" };
         eprintln!(
-            "note: {}: the scene has no lights; it is lit by a uniform white environment of radiance 1",
+            "note: {}: the scene has {what}; it is lit by a uniform white environment of radiance 1 \
+             (--no-default-light leaves it out, --env or --sky sets another)",
             path.display()
         );
         world.spawn((Name("default environment".into()), Light::Environment { radiance: Vec3::ONE, map: None }));
@@ -243,12 +297,7 @@ impl Loader<'_> {
             }
             for prim in mesh.primitives() {
                 let Some((h, mat)) = self.primitive(&mesh, &prim, res)? else { continue };
-                let pm = res.meshes.get(h);
-                for p in &pm.positions {
-                    let w = m.transform_point3(*p);
-                    self.lo = self.lo.min(w);
-                    self.hi = self.hi.max(w);
-                }
+                self.parts.push(PartBound::of(&res.meshes.get(h).positions, &m));
                 let mut cb = EntityBuilder::new();
                 cb.add(Name(format!(
                     "{}/{}#{}",
@@ -354,14 +403,26 @@ impl Loader<'_> {
     /// The camera the user asked for (or the first, or one framing the scene).
     fn spawn_camera(&mut self, world: &mut World, want: Option<&str>) -> Result<()> {
         let chosen = match want {
-            Some(w) => Some(self.cameras.iter().find(|(c, n, ..)| c == w || n == w).ok_or_else(|| {
-                let names: Vec<String> =
-                    self.cameras.iter().map(|(c, n, ..)| if c.is_empty() { n.clone() } else { c.clone() }).collect();
-                self.err(format!(
-                    "no camera named '{w}' (cameras: {})",
-                    if names.is_empty() { "none".into() } else { names.join(", ") }
-                ))
-            })?),
+            Some(w) => {
+                let by_name = self.cameras.iter().find(|(c, n, ..)| c == w || n == w);
+                let by_index = || w.trim().parse::<usize>().ok().and_then(|i| self.cameras.get(i));
+                Some(by_name.or_else(by_index).ok_or_else(|| {
+                    let names: Vec<String> = self
+                        .cameras
+                        .iter()
+                        .enumerate()
+                        .map(|(i, (c, n, ..))| match (c.is_empty(), n.is_empty()) {
+                            (false, _) => format!("{i} '{c}'"),
+                            (true, false) => format!("{i} '{n}'"),
+                            (true, true) => format!("{i} (unnamed)"),
+                        })
+                        .collect();
+                    self.err(format!(
+                        "no camera named or numbered '{w}' (cameras by index: {})",
+                        if names.is_empty() { "none".into() } else { names.join(", ") }
+                    ))
+                })?)
+            }
             None => self.cameras.first(),
         };
         match chosen {
@@ -369,8 +430,7 @@ impl Loader<'_> {
                 world.insert_one(*e, *c).map_err(|_| self.err("camera entity vanished".into()))?;
             }
             None => {
-                let (lo, hi) =
-                    if self.lo.cmple(self.hi).all() { (self.lo, self.hi) } else { (Vec3::splat(-1.0), Vec3::ONE) };
+                let (lo, hi) = framed_box(&self.parts).unwrap_or((Vec3::splat(-1.0), Vec3::ONE));
                 let center = 0.5 * (lo + hi);
                 let radius = (0.5 * (hi - lo).length()).max(1e-6);
                 let fov: f32 = 40.0;

@@ -363,29 +363,8 @@ impl Spawner<'_> {
                     (None, None) => vec![],
                 };
                 self.res.inputs.extend(paths.iter().cloned());
-                let map = if paths.is_empty() {
-                    None
-                } else {
-                    Some(std::sync::Arc::new(
-                        prism_core::envmap::EnvMap::load(&paths, *layout)
-                            .map_err(|e| PrismError::scene(&ctx, e.to_string()))?,
-                    ))
-                };
                 let radiance = color(*radiance, "radiance", &ctx)? * *scale;
-                // The brightest texel times radiance and scale must stay finite (power and sampling sum them).
-                let peak = map.as_ref().map_or(1.0, |m| {
-                    m.images.iter().flat_map(|i| &i.texels).fold(0.0f32, |a, t| a.max(t.max_element()))
-                });
-                if !(radiance * peak * 4.0 * std::f32::consts::PI).is_finite() {
-                    return Err(PrismError::scene(
-                        &ctx,
-                        format!(
-                            "environment radiance x scale ({radiance}) times the map's brightest texel ({peak}) \
-                             overflows single precision"
-                        ),
-                    ));
-                }
-                Some(Light::Environment { radiance, map })
+                Some(environment_light(&paths, *layout, radiance).map_err(|e| PrismError::scene(&ctx, e.to_string()))?)
             }
         };
         match (&light, &e.shape) {
@@ -479,4 +458,29 @@ fn child_path(path: &str, i: usize) -> String {
     let head: String = path.chars().take(KEEP / 2).collect();
     let head = head.rsplit_once(".children[").map_or(head.as_str(), |(h, _)| h).to_string();
     format!("{head}....children[{i}] (level {level})")
+}
+
+/// An environment light of `radiance` (times the map of `paths`, if any: one file in any layout, or six faces).
+/// Errors when the map cannot be read, or when its brightest texel times `radiance` overflows single precision.
+pub(crate) fn environment_light(
+    paths: &[PathBuf],
+    layout: Option<prism_core::envmap::SourceLayout>,
+    radiance: glam::Vec3,
+) -> Result<Light> {
+    let map = if paths.is_empty() {
+        None
+    } else {
+        Some(std::sync::Arc::new(prism_core::envmap::EnvMap::load(paths, layout)?))
+    };
+    // The brightest texel times radiance and scale must stay finite (power and sampling sum them).
+    let peak = map
+        .as_ref()
+        .map_or(1.0, |m| m.images.iter().flat_map(|i| &i.texels).fold(0.0f32, |a, t| a.max(t.max_element())));
+    if !(radiance * peak * 4.0 * std::f32::consts::PI).is_finite() {
+        return Err(PrismError::invalid(format!(
+            "environment radiance x scale ({radiance}) times the map's brightest texel ({peak}) overflows single \
+             precision"
+        )));
+    }
+    Ok(Light::Environment { radiance, map })
 }
