@@ -310,3 +310,26 @@ pub fn png_header_only(w: u32, h: u32, depth: u8, ty: u8) -> Vec<u8> {
     ]
     .concat()
 }
+
+/// A KTX2 file: `vk_format`, `w` x `h`, one level holding `level`, supercompression `scheme`, an empty DFD.
+pub fn forged_ktx2(vk_format: u32, w: u32, h: u32, scheme: u32, level: &[u8]) -> Vec<u8> {
+    let mut b = vec![0xAB, b'K', b'T', b'X', b' ', b'2', b'0', 0xBB, b'\r', b'\n', 0x1A, b'\n'];
+    for v in [vk_format, 1, w, h, 0, 0, 1, 1, scheme] {
+        b.extend_from_slice(&v.to_le_bytes());
+    }
+    // Index: the DFD (its 4-byte total length alone) right after the level index; no key/value or global data.
+    let dfd = 80 + 24;
+    for v in [dfd as u32, 4, 0, 0] {
+        b.extend_from_slice(&v.to_le_bytes());
+    }
+    b.extend_from_slice(&0u64.to_le_bytes());
+    b.extend_from_slice(&0u64.to_le_bytes());
+    let level_at = (dfd + 4) as u64;
+    let uncompressed = if scheme == 0 { level.len() as u64 } else { w as u64 * h as u64 * 3 };
+    for v in [level_at, level.len() as u64, uncompressed] {
+        b.extend_from_slice(&v.to_le_bytes());
+    }
+    b.extend_from_slice(&4u32.to_le_bytes());
+    b.extend_from_slice(level);
+    b
+}

@@ -24,6 +24,7 @@ mod exactness;
 mod examples;
 mod fuzz_replay;
 mod geometry;
+mod gltf_corpus;
 mod hostile;
 mod import_gltf;
 mod import_pbrt;

@@ -352,21 +352,28 @@ fn messages_name_the_real_cause() {
 }
 
 #[test]
-fn a_ktx2_texture_falls_back_to_the_factor_with_a_warning() {
+fn a_basis_ktx2_texture_falls_back_to_the_factor_with_a_warning_and_a_malformed_one_is_an_error() {
     let dir = scratch("uf-ktx2");
     use base64::Engine;
-    let ktx2 = base64::engine::general_purpose::STANDARD
-        .encode([&[0xAB, b'K', b'T', b'X', b' ', b'2', b'0', 0xBB, b'\r', b'\n', 0x1A, b'\n'][..], &[0; 68]].concat());
-    let extra = format!(
-        r#", "materials": [{{"pbrMetallicRoughness": {{"baseColorTexture": {{"index": 0}}}}}}],
+    let render = |ktx2: &[u8], name: &str| {
+        let ktx2 = base64::engine::general_purpose::STANDARD.encode(ktx2);
+        let extra = format!(
+            r#", "materials": [{{"pbrMetallicRoughness": {{"baseColorTexture": {{"index": 0}}}}}}],
         "textures": [{{"source": 0}}], "images": [{{"uri": "data:image/ktx2;base64,{ktx2}"}}]"#
-    );
-    let doc = gltf_doc(r#"[{"mesh": 0}]"#, &extra)
-        .replace(r#""attributes": {"POSITION": 0}"#, r#""attributes": {"POSITION": 0}, "material": 0"#);
-    let g = file(&dir, "ktx2.gltf", doc);
-    let r = prism_args(&["render", s(&g), "-o", s(&dir.join("o.png")), "--size", "8x8", "--spp", "1"]);
+        );
+        let doc = gltf_doc(r#"[{"mesh": 0}]"#, &extra)
+            .replace(r#""attributes": {"POSITION": 0}"#, r#""attributes": {"POSITION": 0}, "material": 0"#);
+        let g = file(&dir, name, doc);
+        prism_args(&["render", s(&g), "-o", s(&dir.join("o.png")), "--size", "8x8", "--spp", "1"])
+    };
+    // VK_FORMAT_UNDEFINED with BasisLZ: a valid file Prism does not transcode.
+    let r = render(&crate::common::forged_ktx2(0, 4, 4, 1, &[0; 16]), "basis.gltf");
     assert!(r.code == Some(0), "{r:?}");
-    assert!(r.stderr.contains("KTX2"), "{}", r.stderr);
+    assert!(r.stderr.contains("KTX2 texture Basis Universal"), "{}", r.stderr);
+    // A KTX2 magic and a zero header: malformed, named.
+    let zeros = [&[0xAB, b'K', b'T', b'X', b' ', b'2', b'0', 0xBB, b'\r', b'\n', 0x1A, b'\n'][..], &[0; 68]].concat();
+    let r = render(&zeros, "zeros.gltf");
+    assert!(r.is_clean_error() && r.error_line().contains("image 0: cannot decode KTX2 texture"), "{r:?}");
 }
 
 // ---- Untrusted scenes -----------------------------------------------------------------------------------------

@@ -95,7 +95,8 @@ impl<'a> Materials<'a> {
         }
     }
 
-    /// The decoded image, or `None` for a KTX2 texture (not decoded: the material keeps its factor, with a warning).
+    /// The decoded image, or `None` for a KTX2 texture in an encoding Prism does not decode (Basis Universal, block
+    /// formats: the material keeps its factor, with a warning).
     fn decoded(&mut self, img: &gltf::Image) -> Result<Option<Arc<image::DynamicImage>>> {
         if let Some(d) = self.decoded.get(&img.index()) {
             return Ok(Some(d.clone()));
@@ -105,14 +106,22 @@ impl<'a> Materials<'a> {
             gltf::image::Source::View { view, .. } => self.buffers.view(&view, &what, &self.file)?.to_vec(),
             gltf::image::Source::Uri { uri, .. } => uri_bytes(uri, self.base.as_deref(), &what, &self.file)?,
         };
-        if bytes.starts_with(KTX2_MAGIC) {
-            self.warnings.insert(format!(
-                "{what} is a KTX2 (Basis Universal) texture, which Prism does not decode: its materials use their \
-                 factors alone"
-            ));
-            return Ok(None);
-        }
         let label = PathBuf::from(format!("{}: {what}", self.file.display()));
+        if bytes.starts_with(KTX2_MAGIC) {
+            let d = match super::ktx2_image::decode(&bytes) {
+                Ok(super::ktx2_image::Ktx2::Image(img)) => Arc::new(img),
+                Ok(super::ktx2_image::Ktx2::Unsupported(why)) => {
+                    self.warnings.insert(format!(
+                        "{what} is a KTX2 texture {why}, which Prism does not decode: its materials use their \
+                         factors alone"
+                    ));
+                    return Ok(None);
+                }
+                Err(e) => return Err(PrismError::format(&label, format!("cannot decode KTX2 texture: {e}"))),
+            };
+            self.decoded.insert(img.index(), d.clone());
+            return Ok(Some(d));
+        }
         let d = Arc::new(TexImage::decode_bytes(&bytes, &label)?);
         self.decoded.insert(img.index(), d.clone());
         Ok(Some(d))

@@ -26,7 +26,10 @@
 //!   an error naming it.
 
 mod data;
+mod ktx2_image;
 mod material;
+
+pub use ktx2_image::{Ktx2, decode as decode_ktx2};
 
 use crate::FileSettings;
 use data::{Buffers, read_accessor};
