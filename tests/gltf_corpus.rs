@@ -135,3 +135,29 @@ fn mutated_ktx2_files_never_panic() {
         assert!(r.is_ok(), "a mutated KTX2 file panicked the decoder");
     }
 }
+
+#[test]
+fn texture_transform_scales_then_rotates_counter_clockwise_on_the_displayed_image_then_offsets() {
+    use glam::Vec2;
+    use prism::texture::{ImageMap, TexImage, Wrap};
+    let image = std::sync::Arc::new(TexImage::from_texels(1, 1, vec![glam::Vec3::ONE]).unwrap());
+    let a = std::f32::consts::FRAC_PI_2;
+    let map = |scale: Vec2, rot: f32, offset: Vec2| ImageMap {
+        image: image.clone(),
+        wrap: Wrap::Repeat,
+        uv_scale: scale,
+        uv_offset: offset,
+        uv_rotation: Vec2::new(rot.cos(), rot.sin()),
+    };
+    // The u axis turned by 90 degrees points to -v: up on the image as displayed (v grows downwards), a quarter
+    // turn counter-clockwise, as KHR_texture_transform describes it and TextureTransformTest's arrow shows it.
+    let t = map(Vec2::ONE, a, Vec2::ZERO).transform_uv(Vec2::X);
+    assert!((t - Vec2::new(0.0, -1.0)).length() < 1e-6, "{t}");
+    // Scale first (2 along u), then rotate, then offset.
+    let t = map(Vec2::new(2.0, 1.0), a, Vec2::new(0.5, 0.25)).transform_uv(Vec2::X);
+    assert!((t - Vec2::new(0.5, -1.75)).length() < 1e-6, "{t}");
+    // No rotation is exactly uv * scale + offset.
+    let plain = ImageMap { uv_rotation: ImageMap::NO_ROTATION, ..map(Vec2::new(3.0, 0.5), 0.0, Vec2::new(0.1, 0.2)) };
+    let uv = Vec2::new(0.3, 0.7);
+    assert_eq!(plain.transform_uv(uv), uv * Vec2::new(3.0, 0.5) + Vec2::new(0.1, 0.2));
+}

@@ -98,6 +98,9 @@ pub enum TextureDesc {
         uv_scale: [f32; 2],
         #[serde(default)]
         uv_offset: [f32; 2],
+        /// Degrees, applied after `uv_scale` and before `uv_offset` (glTF's `KHR_texture_transform` rotation).
+        #[serde(default)]
+        uv_rotation: f32,
     },
     /// 3D checkerboard: 0 and 1 on alternating unit cells of `transform(p)`.
     Checker3d {

@@ -33,9 +33,9 @@ pub(super) fn load_textures(
     for (name, d) in descs {
         let ctx = format!("{file}: texture '{name}'");
         let tex = match d {
-            TextureDesc::Image { path, raw, wrap, uv_scale, uv_offset } => {
-                if uv_scale.iter().chain(uv_offset).any(|v| !v.is_finite()) {
-                    return Err(PrismError::scene(&ctx, "uv_scale and uv_offset must be finite"));
+            TextureDesc::Image { path, raw, wrap, uv_scale, uv_offset, uv_rotation } => {
+                if uv_scale.iter().chain(uv_offset).chain([uv_rotation]).any(|v| !v.is_finite()) {
+                    return Err(PrismError::scene(&ctx, "uv_scale, uv_offset and uv_rotation must be finite"));
                 }
                 let full = base_dir.join(path);
                 res.inputs.push(full.clone());
@@ -54,6 +54,11 @@ pub(super) fn load_textures(
                     wrap: *wrap,
                     uv_scale: Vec2::from(*uv_scale),
                     uv_offset: Vec2::from(*uv_offset),
+                    uv_rotation: if *uv_rotation == 0.0 {
+                        ImageMap::NO_ROTATION
+                    } else {
+                        Vec2::new(uv_rotation.to_radians().cos(), uv_rotation.to_radians().sin())
+                    },
                 })
             }
             TextureDesc::Checker3d { transform } => solid(SolidKind::Checker3d, transform, 0, 1.0, 1.0, &ctx)?,

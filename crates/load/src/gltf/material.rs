@@ -165,15 +165,21 @@ impl<'a> Materials<'a> {
             self.warnings
                 .insert(format!("texture {}: different wrap modes in s and t; using wrapS for both", tex.index()));
         }
-        let (mut uv_scale, mut uv_offset) = (Vec2::ONE, Vec2::ZERO);
+        let (mut uv_scale, mut uv_offset, mut uv_rotation) = (Vec2::ONE, Vec2::ZERO, ImageMap::NO_ROTATION);
         if let Some((offset, rotation, scale)) = info.transform {
-            if rotation != 0.0 {
-                self.warnings.insert("KHR_texture_transform rotation is ignored (offset and scale are used)".into());
+            if !(offset.iter().chain(&scale).all(|v| v.is_finite()) && rotation.is_finite()) {
+                return Err(PrismError::format(
+                    &self.file,
+                    format!("texture {}: KHR_texture_transform values must be finite", tex.index()),
+                ));
             }
             uv_scale = Vec2::from(scale);
             uv_offset = Vec2::from(offset);
+            if rotation != 0.0 {
+                uv_rotation = Vec2::new(rotation.cos(), rotation.sin());
+            }
         }
-        Ok(Some(ImageMap { image, wrap: wrap(s.wrap_s()), uv_scale, uv_offset }))
+        Ok(Some(ImageMap { image, wrap: wrap(s.wrap_s()), uv_scale, uv_offset, uv_rotation }))
     }
 
     /// Register a texture for the material schema; returns its name.
