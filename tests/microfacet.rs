@@ -2,7 +2,8 @@
 //! (chi-square, several roughness values and incident angles down to grazing, reflection and transmission),
 //! the values against an independent transcription of the formulas of `../shared/refs/cornell_rough.md`, the
 //! white furnace (a reflectance-1 conductor loses exactly the energy single scattering loses, computed here by
-//! quadrature), reciprocity, and the transport-mode rules (1/eta^2 for radiance only).
+//! quadrature), reciprocity, the transport-mode rules (1/eta^2 for radiance only), and the rough plastic against
+//! Mitsuba 3's `roughplastic` (`tests/data/mitsuba_roughplastic.csv`, made by the script beside it).
 
 use crate::common::chi_square;
 use glam::{Vec3, Vec3A};
@@ -13,6 +14,11 @@ use std::f64::consts::PI;
 
 const S_BINS: usize = 24;
 const PHI_BINS: usize = 24;
+
+/// The rough coat's tables for index `eta` at `alpha`.
+fn coat(eta: f32, alpha: f32) -> prism::bsdf::rough_interface::InterfaceAt {
+    prism::bsdf::rough_interface::RoughInterface::get(eta, Some(alpha)).at(alpha)
+}
 
 fn dir(theta_deg: f32, phi_deg: f32) -> Vec3A {
     let (t, p) = (theta_deg.to_radians(), phi_deg.to_radians());
@@ -162,7 +168,7 @@ fn rough_plastic_and_mixtures_sample_their_pdf() {
             eta: 1.5,
             diffuse: Vec3::new(0.6, 0.3, 0.2),
             specular: Vec3::ONE,
-            fdr_int: prism::bsdf::fresnel::fresnel_diffuse_reflectance(1.0 / 1.5),
+            coat: coat(1.5, alpha),
         };
         let bsdf = Bsdf::from_lobes(Vec3A::Z, wo, &[plastic]).unwrap();
         check_lobe(&format!("plastic alpha {alpha} theta {theta}"), &bsdf, wo, 1.5);
@@ -293,10 +299,9 @@ fn a_white_rough_conductor_in_a_furnace_loses_only_the_single_scattering_energy(
 #[test]
 fn microfacet_lobes_are_reciprocal() {
     let mut rng = Rng::new(21, 22);
-    let fdr = prism::bsdf::fresnel::fresnel_diffuse_reflectance(1.0 / 1.5);
     let lobes = [
         Lobe::Conductor { alpha: 0.3, fresnel: ConductorFresnel::Complex { eta: AU_ETA, k: AU_K }, scale: Vec3::ONE },
-        Lobe::Plastic { alpha: 0.2, eta: 1.5, diffuse: Vec3::splat(0.5), specular: Vec3::ONE, fdr_int: fdr },
+        Lobe::Plastic { alpha: 0.2, eta: 1.5, diffuse: Vec3::splat(0.5), specular: Vec3::ONE, coat: coat(1.5, 0.2) },
         Lobe::RoughDielectric { alpha: 0.25, r: Vec3::ONE, t: Vec3::ONE, eta: 1.5 },
     ];
     let rad = TransportMode::Radiance;
@@ -366,7 +371,7 @@ fn fused_microfacet_value_and_density_equal_eval_and_pdf_bit_for_bit() {
         Lobe::RoughDielectric { alpha: 0.15, r: Vec3::ONE, t: Vec3::ONE, eta: 1.5 },
         Lobe::RoughDielectric { alpha: 0.6, r: Vec3::splat(0.8), t: Vec3::splat(0.9), eta: 1.0 / 1.33 },
         Lobe::Diffuse { albedo: Vec3::splat(0.5) },
-        Lobe::Plastic { alpha: 0.1, eta: 1.5, diffuse: Vec3::splat(0.5), specular: Vec3::ONE, fdr_int: 0.6 },
+        Lobe::Plastic { alpha: 0.1, eta: 1.5, diffuse: Vec3::splat(0.5), specular: Vec3::ONE, coat: coat(1.5, 0.1) },
     ];
     let mut rng = Rng::new(17, 3);
     let mut nonzero = [0usize; 2];
@@ -409,4 +414,56 @@ fn fused_microfacet_value_and_density_equal_eval_and_pdf_bit_for_bit() {
         }
     }
     assert!(nonzero[0] > 10000 && nonzero[1] > 5000, "too few directions with a density: {nonzero:?}");
+}
+
+/// Mitsuba 3's `roughplastic` (GGX, `nonlinear: false`, `diffuse_reflectance` (0.8, 0.5, 0.2),
+/// `specular_reflectance` 0 or 1, `ext_ior` 1) at five direction pairs for three widths and three indices, as
+/// `tests/data/mitsuba_roughplastic.py` evaluated it: the rough coat's transmittance and internal reflectance
+/// make the diffuse base (and the whole lobe) agree within 1%.
+#[test]
+fn rough_plastic_matches_mitsuba_3s_roughplastic_within_one_percent() {
+    let text = std::fs::read_to_string(crate::common::root().join("tests/data/mitsuba_roughplastic.csv")).unwrap();
+    let mut worst = (0.0f32, String::new());
+    let mut rows = 0;
+    for line in text.lines().skip(1) {
+        let v: Vec<f32> = line.split(',').map(|x| x.parse().unwrap()).collect();
+        let (alpha, eta, spec) = (v[0], v[1], v[2]);
+        let wi = Vec3A::new(v[3], v[4], v[5]).normalize();
+        let wo = Vec3A::new(v[6], v[7], v[8]).normalize();
+        let want = Vec3::new(v[9], v[10], v[11]);
+        let lobe = Lobe::Plastic {
+            alpha,
+            eta,
+            diffuse: Vec3::new(0.8, 0.5, 0.2),
+            specular: Vec3::splat(spec),
+            coat: coat(eta, alpha),
+        };
+        let got = lobe.eval(wi, wo, TransportMode::Radiance);
+        let err = ((got - want).abs() / want.max(Vec3::splat(1e-6))).max_element();
+        if err > worst.0 {
+            worst = (err, format!("alpha {alpha} eta {eta} specular {spec} wi {wi} wo {wo}: {got} vs {want}"));
+        }
+        rows += 1;
+    }
+    assert_eq!(rows, 90);
+    assert!(worst.0 < 0.01, "largest relative difference {:.4}: {}", worst.0, worst.1);
+}
+
+/// A textured width reads a 16-row table in sqrt(alpha): on a row it equals the constant width's table (R_int by
+/// the coarser rule within 0.1%), between rows it stays within 1% of the exact table.
+#[test]
+fn the_textured_width_table_agrees_with_the_constant_width_tables() {
+    use prism::bsdf::rough_interface::RoughInterface;
+    let grid = RoughInterface::get(1.5, None);
+    for alpha in [(5.0f32 / 15.0).powi(2), 0.2, 0.55, 0.9] {
+        let (g, c) = (grid.at(alpha), coat(1.5, alpha));
+        let on_row = alpha == (5.0f32 / 15.0).powi(2);
+        let tol = if on_row { 1e-3 } else { 1e-2 };
+        let r = (g.internal_reflectance() - c.internal_reflectance()).abs() / c.internal_reflectance();
+        assert!(r < tol, "alpha {alpha}: R_int {} vs {}", g.internal_reflectance(), c.internal_reflectance());
+        for mu in [0.05f32, 0.3, 0.7, 1.0] {
+            let (tg, tc) = (g.transmittance(mu), c.transmittance(mu));
+            assert!((tg - tc).abs() / tc < tol, "alpha {alpha} mu {mu}: T {tg} vs {tc}");
+        }
+    }
 }

@@ -6,7 +6,6 @@
 use super::schema::{ColorDesc, MaterialDesc, ScalarDesc, ScaleDesc, TextureDesc, TextureRef, V3};
 use super::transform::compose;
 use glam::{Vec2, Vec3};
-use prism_core::bsdf::fresnel::fresnel_diffuse_reflectance;
 use prism_core::error::{PrismError, Result};
 use prism_core::material::{ConductorSpec, Material, MaterialKind, PhongParams, Shading, metals};
 use prism_core::texture::{ColorParam, ImageMap, ScalarParam, Solid, SolidKind, TexImage, Texture};
@@ -330,12 +329,17 @@ fn material(name: &str, d: &MaterialDesc, c: &Ctx) -> Result<(Material, Option<(
         }
         MaterialDesc::RoughPlastic { alpha, ior, diffuse, specular, two_sided } => {
             let ior = check_ior(*ior, c)?;
+            let alpha = c.scalar(alpha, "alpha (roughness)", UNIT)?;
+            let constant = match alpha {
+                prism_core::texture::ScalarParam::Const(a) => Some(a),
+                _ => None,
+            };
             let k = MaterialKind::Plastic {
-                alpha: c.scalar(alpha, "alpha (roughness)", UNIT)?,
+                alpha,
                 ior,
                 diffuse: c.color(diffuse, "diffuse")?,
                 specular: c.color(specular, "specular")?,
-                fdr_int: fresnel_diffuse_reflectance(1.0 / ior),
+                interface: prism_core::bsdf::rough_interface::RoughInterface::get(ior, constant),
             };
             (kind(k, *two_sided), None)
         }

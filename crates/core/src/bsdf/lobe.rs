@@ -12,13 +12,14 @@
 //! | `CourseRefraction` | the course's refraction: weight `t`, no Fresnel, nothing under total internal reflection (delta) |
 //! | `Conductor` | GGX `F D G / (4 wo.z wi.z)` with a conductor Fresnel term, times `scale`; smooth (delta) when alpha = 0 |
 //! | `RoughDielectric` | GGX reflection `r F D G / (4 |wo.z wi.z|)` and transmission (Walter et al. 2007) `t (1 - F) D G |wo.m| |wi.m| / (|wo.z wi.z| (wo.m + eta wi.m)^2)` (times `eta^2` for importance) |
-//! | `Plastic` | GGX dielectric coat `specular F D G / (4 wo.z wi.z)` over a diffuse base `diffuse (1 - F(wo.z)) (1 - F(wi.z)) / (pi eta^2 (1 - Fdr_int))` (Mitsuba's plastic, with the smooth-interface transmittance for the base) |
+//! | `Plastic` | GGX dielectric coat `specular F D G / (4 wo.z wi.z)` over a diffuse base `diffuse T(wo.z) T(wi.z) / (pi eta^2 (1 - R_int))`, `T` and `R_int` the rough coat's transmittance and internal reflectance (Mitsuba 3's roughplastic; `rough_interface.rs`) |
 //!
 //! `eta` is the relative index (transmitted side over `wo`'s side). Microfacet terms: [`super::microfacet`].
 
 use super::TransportMode;
 use super::fresnel::{fresnel_conductor, fresnel_schlick};
 use super::microfacet::{ggx_d, ggx_g1, sample_visible, visible_pdf};
+use super::rough_interface::InterfaceAt;
 use crate::math::{Frame, fresnel_dielectric, luminance};
 use crate::sampling::warp;
 use glam::{Vec2, Vec3, Vec3A};
@@ -124,9 +125,8 @@ pub enum Lobe {
         diffuse: Vec3,
         /// Filter on the coat's specular reflection, per RGB channel.
         specular: Vec3,
-        /// The coat's internal diffuse Fresnel reflectance (from `eta`), the share of light the base sends back
-        /// that the coat reflects down again.
-        fdr_int: f32,
+        /// The rough coat's transmittance `T(mu)` and internal reflectance `R_int` at `alpha`.
+        coat: InterfaceAt,
     },
 }
 
@@ -199,8 +199,8 @@ impl Lobe {
             Lobe::CourseRefraction { t, eta } => Lobe::CourseRefraction { t: t * w, eta },
             Lobe::Conductor { alpha, fresnel, scale } => Lobe::Conductor { alpha, fresnel, scale: scale * w },
             Lobe::RoughDielectric { alpha, r, t, eta } => Lobe::RoughDielectric { alpha, r: r * w, t: t * w, eta },
-            Lobe::Plastic { alpha, eta, diffuse, specular, fdr_int } => {
-                Lobe::Plastic { alpha, eta, diffuse: diffuse * w, specular: specular * w, fdr_int }
+            Lobe::Plastic { alpha, eta, diffuse, specular, coat } => {
+                Lobe::Plastic { alpha, eta, diffuse: diffuse * w, specular: specular * w, coat }
             }
         }
     }
@@ -288,15 +288,15 @@ impl Lobe {
                 fresnel.eval(wo.dot(h)) * scale * (ggx_d(h, alpha) * g / (4.0 * wo.z * wi.z))
             }
             Lobe::RoughDielectric { alpha, r, t, eta } => rough_dielectric_eval(alpha, r, t, eta, wo, wi, mode),
-            Lobe::Plastic { alpha, eta, diffuse, specular, fdr_int } => {
+            Lobe::Plastic { alpha, eta, diffuse, specular, coat } => {
                 if !reflect {
                     return Vec3::ZERO;
                 }
                 let h = (wo + wi).normalize();
                 let g = ggx_g1(wo, h, alpha) * ggx_g1(wi, h, alpha);
                 let fs = fresnel_dielectric(wo.dot(h), eta) * ggx_d(h, alpha) * g / (4.0 * wo.z * wi.z);
-                let t = (1.0 - fresnel_dielectric(wo.z, eta)) * (1.0 - fresnel_dielectric(wi.z, eta));
-                specular * fs + diffuse * (t * FRAC_1_PI / (eta * eta * (1.0 - fdr_int)))
+                let t = coat.transmittance(wo.z) * coat.transmittance(wi.z);
+                specular * fs + diffuse * (t * FRAC_1_PI / (eta * eta * (1.0 - coat.internal_reflectance())))
             }
         }
     }

@@ -19,6 +19,7 @@
 pub mod fresnel;
 mod lobe;
 pub mod microfacet;
+pub mod rough_interface;
 
 pub use lobe::{ConductorFresnel, Lobe, LobeSample};
 

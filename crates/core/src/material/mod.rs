@@ -123,8 +123,8 @@ pub enum MaterialKind {
         /// Filter on the transmitted part, per RGB channel.
         transmittance: ColorParam,
     },
-    /// Diffuse base under a GGX dielectric coat of index `ior`; `fdr_int` is the coat's internal diffuse
-    /// Fresnel reflectance (computed from `ior`).
+    /// Diffuse base under a GGX dielectric coat of index `ior` (Mitsuba 3's `roughplastic`); `interface` holds
+    /// the rough coat's transmittance and internal reflectance for its `alpha`.
     Plastic {
         /// GGX width of the coat, clamped to `[1e-3, 1]` at each hit (the coat is never perfectly smooth).
         alpha: ScalarParam,
@@ -134,8 +134,9 @@ pub enum MaterialKind {
         diffuse: ColorParam,
         /// Filter on the coat's specular reflection, per RGB channel.
         specular: ColorParam,
-        /// The coat's internal diffuse Fresnel reflectance, in `[0, 1)`.
-        fdr_int: f32,
+        /// The coat's tabulated transmittance and internal reflectance ([`RoughInterface::get`] of `ior` and the
+        /// constant `alpha`, or of every `alpha` for a textured one).
+        interface: &'static crate::bsdf::rough_interface::RoughInterface,
     },
     /// `(1 - weight) a + weight b`, materials by index.
     Blend {

@@ -177,14 +177,15 @@ fn push_lobes(
                 Lobe::RoughDielectric { alpha: a, r, t, eta }
             });
         }
-        MaterialKind::Plastic { alpha: a, ior, diffuse, specular, fdr_int } => {
+        MaterialKind::Plastic { alpha: a, ior, diffuse, specular, interface } => {
             if side.shades(m) {
+                let alpha = alpha(textures, a, at).max(MIN_ALPHA);
                 bsdf.push(Lobe::Plastic {
-                    alpha: alpha(textures, a, at).max(MIN_ALPHA),
+                    alpha,
                     eta: *ior,
                     diffuse: color(diffuse),
                     specular: color(specular),
-                    fdr_int: *fdr_int,
+                    coat: interface.at(alpha),
                 });
             }
         }
