@@ -2,6 +2,7 @@
 //! Each test names the physics or the contract it checks.
 
 mod common;
+mod gltf_doc;
 
 mod accel;
 mod accel_cli;
@@ -24,6 +25,7 @@ mod exactness;
 mod examples;
 mod fuzz_replay;
 mod geometry;
+mod gltf_compose;
 mod gltf_corpus;
 mod hostile;
 mod import_gltf;

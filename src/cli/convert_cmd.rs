@@ -1,5 +1,6 @@
-//! `prism convert IN.txt|IN.pbrt -o OUT.ron`: a 6.837 or pbrt scene written as the equivalent Prism RON scene
-//! (mesh and texture paths relative to the output file). The result is parsed back before it is written, so a
+//! `prism convert IN.txt|IN.pbrt|IN.gltf|IN.glb -o OUT.ron`: a 6.837 or pbrt scene written as the equivalent Prism
+//! RON scene (mesh and texture paths relative to the output file), or a glTF file as a RON scene placing it as one
+//! `Gltf` entity with its camera and light written out. The result is parsed back before it is written, so a
 //! written file always parses.
 
 use clap::Args;
@@ -9,7 +10,7 @@ use std::path::{Path, PathBuf};
 
 #[derive(Args, Debug, Clone)]
 pub struct ConvertArgs {
-    /// A 6.837 scene file (.txt) or a pbrt-v3/v4 scene (.pbrt).
+    /// A 6.837 scene file (.txt), a pbrt-v3/v4 scene (.pbrt) or a glTF file (.gltf, .glb).
     pub input: PathBuf,
     /// The RON scene to write (.ron).
     #[arg(short, long)]
@@ -17,14 +18,17 @@ pub struct ConvertArgs {
     /// Write assignment 8's meshes as the exact surfaces of their spline files (`tessellation: None`).
     #[arg(long)]
     pub exact_curves: bool,
+    /// The glTF camera to write, by name or index (default: the first, or one framing the model).
+    #[arg(long, value_name = "NAME|INDEX")]
+    pub camera: Option<String>,
 }
 
 pub fn run(args: ConvertArgs) -> anyhow::Result<()> {
     let ext = |p: &Path| p.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
     let input_ext = ext(&args.input);
-    if input_ext != "txt" && input_ext != "pbrt" {
+    if !["txt", "pbrt", "gltf", "glb"].contains(&input_ext.as_str()) {
         return Err(PrismError::invalid(format!(
-            "{}: expected a 6.837 scene (.txt) or a pbrt scene (.pbrt)",
+            "{}: expected a 6.837 scene (.txt), a pbrt scene (.pbrt) or a glTF file (.gltf, .glb)",
             args.input.display()
         ))
         .into());
@@ -38,7 +42,9 @@ pub fn run(args: ConvertArgs) -> anyhow::Result<()> {
         _ => PathBuf::from("."),
     };
     let text = prism_load::with_loader_stack(|| {
-        let text = if input_ext == "pbrt" {
+        let text = if input_ext == "gltf" || input_ext == "glb" {
+            prism_load::gltf::gltf_to_ron(&args.input, &out_dir, args.camera.as_deref())?
+        } else if input_ext == "pbrt" {
             let c = pbrt::convert_file(&args.input, &out_dir)?;
             for w in &c.warnings {
                 eprintln!("warning: {w}");

@@ -3,7 +3,6 @@
 //! terminal, a one-paragraph summary on stderr.
 
 use clap::Args;
-use prism_core::envmap::SourceLayout;
 use prism_core::error::PrismError;
 use prism_core::sampling::{PixelFilter, PixelPattern, SamplerKind};
 use prism_core::settings::{AccelKind, EnvOverride, GridResolution, Overrides, ViewOverride};
@@ -110,7 +109,7 @@ pub struct ViewArgs {
     pub env_rotate: f32,
     /// The --env map's layout: equirect, cross or equal-area (default: guessed from its shape).
     #[arg(long, requires = "env", value_parser = parse_env_layout, value_name = "LAYOUT")]
-    pub env_layout: Option<SourceLayout>,
+    pub env_layout: Option<String>,
     /// Light the scene with a uniform environment of this linear RGB radiance (`--sky 1,1,1`), replacing the
     /// scene's environment lights.
     #[arg(long, conflicts_with = "env", value_parser = parse_vec3, value_name = "R,G,B")]
@@ -159,7 +158,7 @@ impl ViewArgs {
                 path: path.clone(),
                 scale: self.env_scale,
                 rotate_deg: self.env_rotate,
-                layout: self.env_layout,
+                layout: self.env_layout.clone(),
             }),
             (None, Some(rgb)) => Some(EnvOverride::Sky(rgb)),
             (None, None) => None,
@@ -168,12 +167,12 @@ impl ViewArgs {
     }
 }
 
-/// `equirect`, `cross` or `equal-area`.
-pub(super) fn parse_env_layout(s: &str) -> Result<SourceLayout, String> {
+/// `equirect`, `cross` or `equal-area`, as the RON name of the layout.
+pub(super) fn parse_env_layout(s: &str) -> Result<String, String> {
     match s.trim().to_ascii_lowercase().as_str() {
-        "equirect" => Ok(SourceLayout::Equirect),
-        "cross" => Ok(SourceLayout::Cross),
-        "equal-area" | "equalarea" => Ok(SourceLayout::EqualArea),
+        "equirect" => Ok("Equirect".into()),
+        "cross" => Ok("Cross".into()),
+        "equal-area" | "equalarea" => Ok("EqualArea".into()),
         _ => Err(format!("unknown layout '{s}' (expected equirect, cross or equal-area)")),
     }
 }

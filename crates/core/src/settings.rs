@@ -429,8 +429,9 @@ pub enum EnvOverride {
         scale: f32,
         /// Rotation about the world's +y axis, degrees.
         rotate_deg: f32,
-        /// The map's layout (`--env-layout`); `None` guesses it from the image's shape.
-        layout: Option<crate::envmap::SourceLayout>,
+        /// The map's layout (`--env-layout`) by its RON name (`Equirect`, `Cross`, `EqualArea`); `None` guesses
+        /// it from the image's shape.
+        layout: Option<String>,
     },
     /// A uniform environment of this radiance (`--sky R,G,B`).
     Sky(glam::Vec3),

@@ -68,7 +68,13 @@ fn replace_environment(world: &mut World, res: &mut Resources, env: &EnvOverride
                 return Err(PrismError::invalid(format!("--env-rotate must be finite, got {rotate_deg}")));
             }
             res.inputs.push(path.clone());
-            let light = environment_light(std::slice::from_ref(path), *layout, Vec3::splat(*scale)).map_err(|e| {
+            let layout = match layout {
+                Some(name) => Some(ron::from_str::<prism_core::envmap::SourceLayout>(name).map_err(|_| {
+                    PrismError::invalid(format!("--env-layout: unknown layout '{name}' (Equirect, Cross, EqualArea)"))
+                })?),
+                None => None,
+            };
+            let light = environment_light(std::slice::from_ref(path), layout, Vec3::splat(*scale)).map_err(|e| {
                 PrismError::invalid(
                     format!("--env: {e}").replace("give `layout: Equirect`", "give `--env-layout equirect`"),
                 )
@@ -79,6 +85,22 @@ fn replace_environment(world: &mut World, res: &mut Resources, env: &EnvOverride
         }
     }
     Ok(())
+}
+
+/// The scene's camera with its eye, target and up in world space (its parents' frames composed in).
+pub fn camera_in_world(world: &World) -> Result<Camera> {
+    let e = world
+        .query::<(Entity, &Camera)>()
+        .iter()
+        .map(|(e, _)| e)
+        .next()
+        .ok_or_else(|| PrismError::invalid("the scene has no camera"))?;
+    let m = world_from_camera(world, e)?;
+    let mut cam = *world.get::<&Camera>(e).map_err(|_| PrismError::invalid("camera entity vanished"))?;
+    cam.eye = m.transform_point3(cam.eye);
+    cam.target = m.transform_point3(cam.target);
+    cam.up = m.transform_vector3(cam.up);
+    Ok(cam)
 }
 
 /// The camera's frame composed with its parents' (the Propagate stage has not run yet).

@@ -267,6 +267,18 @@ pub enum ShapeDesc {
     },
     /// A mesh of the scene's `meshes` table, by name.
     TriangleMesh(String),
+    /// A glTF file's scene (`.gltf` or `.glb`), its node tree nested under this entity: its meshes, materials,
+    /// punctual lights and emissive surfaces; its camera only when the RON scene has none. `materials` replaces
+    /// glTF materials by name with materials of this scene (`Mesh(path: "x.glb")` is the same with no options).
+    Gltf {
+        path: String,
+        /// The glTF scene by index (default: the file's default scene).
+        #[serde(default)]
+        scene: Option<usize>,
+        /// glTF material name -> the name of a material of this RON scene.
+        #[serde(default)]
+        materials: std::collections::BTreeMap<String, String>,
+    },
     /// The surface of revolution of `profile` (a curve in the xy-plane, z = 0) about the y axis, intersected
     /// exactly, or as a mesh with `tessellation: Some((curve: n, revolution: m))`.
     Revolution {

@@ -28,6 +28,9 @@ const ALPHA_ROWS: usize = 16;
 /// The smallest coat width (the plastic lobe's clamp).
 const MIN_ALPHA: f32 = 1e-3;
 
+/// The tables built so far, by (`eta`, `alpha` or `None`) bits.
+type Tables = HashMap<(u32, Option<u32>), &'static RoughInterface>;
+
 /// `T(mu)` and `R_int` of one coat index for one `alpha` or a range of them.
 #[derive(Debug, PartialEq)]
 pub struct RoughInterface {
@@ -81,7 +84,7 @@ impl RoughInterface {
     /// The table for index `eta` and a constant `alpha` (`Some`) or any `alpha` (`None`, for a textured width),
     /// built on first use and shared afterwards.
     pub fn get(eta: f32, alpha: Option<f32>) -> &'static RoughInterface {
-        static CACHE: OnceLock<Mutex<HashMap<(u32, Option<u32>), &'static RoughInterface>>> = OnceLock::new();
+        static CACHE: OnceLock<Mutex<Tables>> = OnceLock::new();
         let alpha = alpha.map(|a| a.clamp(MIN_ALPHA, 1.0));
         let key = (eta.to_bits(), alpha.map(f32::to_bits));
         let cache = CACHE.get_or_init(|| Mutex::new(HashMap::new()));
@@ -93,7 +96,7 @@ impl RoughInterface {
             None => (0..ALPHA_ROWS).map(|k| ((k as f32 / (ALPHA_ROWS - 1) as f32).powi(2)).max(MIN_ALPHA)).collect(),
         };
         let table: &'static RoughInterface = Box::leak(Box::new(Self::build(eta, alphas)));
-        *cache.lock().unwrap_or_else(|e| e.into_inner()).entry(key).or_insert(table)
+        cache.lock().unwrap_or_else(|e| e.into_inner()).entry(key).or_insert(table)
     }
 
     fn build(eta: f32, alphas: Vec<f32>) -> Self {

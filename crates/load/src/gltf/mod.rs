@@ -25,13 +25,17 @@
 //! - Skins, morph targets and animations are ignored with one warning each; an unknown *required* extension is
 //!   an error naming it.
 
+mod cameras;
 mod data;
 mod ktx2_image;
 mod material;
+mod to_ron;
 
 pub use ktx2_image::{Ktx2, decode as decode_ktx2};
+pub use to_ron::gltf_to_ron;
 
 use crate::FileSettings;
+use cameras::PartBound;
 use data::{Buffers, read_accessor};
 use glam::{Affine3A, Mat4, Vec2, Vec3, Vec4};
 use gltf::accessor::DataType;
@@ -42,7 +46,7 @@ use prism_core::lights::SpotProfile;
 use prism_core::mesh::MeshData;
 use prism_core::settings::PluginConfig;
 use prism_engine::Resources;
-use prism_engine::components::{Camera, Light, MaterialId, MeshHandle, Name, Parent, Projection, Shape, Transform};
+use prism_engine::components::{Camera, Light, MaterialId, MeshHandle, Name, Parent, Shape, Transform};
 use std::collections::{BTreeSet, HashMap};
 use std::path::Path;
 
@@ -71,70 +75,76 @@ struct Loader<'a> {
     emitters: usize,
     /// World bounds of every primitive drawn, for the automatic camera.
     parts: Vec<PartBound>,
+    placement: &'a Placement,
 }
 
-/// A drawn primitive's world-space box, and whether all its vertices lie in one plane (a ground or a backdrop).
-struct PartBound {
-    lo: Vec3,
-    hi: Vec3,
-    planar: bool,
+/// A material that replaces a glTF material: its index in the scene's materials and its emission (radiance,
+/// two-sided), if it emits.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MaterialOverride {
+    /// Index in `Resources::materials`.
+    pub id: u32,
+    /// The emission of the material, which becomes an area light on the primitive.
+    pub emission: Option<(Vec3, bool)>,
 }
 
-impl PartBound {
-    fn of(positions: &[Vec3], m: &Mat4) -> Self {
-        let world: Vec<Vec3> = positions.iter().map(|p| m.transform_point3(*p)).collect();
-        let (lo, hi) = world.iter().fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(l, h), &p| (l.min(p), h.max(p)));
-        let diag = (hi - lo).length();
-        // The plane through the first vertex, the vertex farthest from it, and the vertex farthest from that line;
-        // planar when every vertex is within 1e-4 of the part's size of it.
-        let planar = world.first().is_some_and(|&a| {
-            let far = |f: &dyn Fn(Vec3) -> f32| world.iter().copied().max_by(|x, y| f(*x).total_cmp(&f(*y)));
-            let b = far(&|p| (p - a).length_squared()).unwrap_or(a);
-            let c = far(&|p| (b - a).cross(p - a).length_squared()).unwrap_or(a);
-            let n = (b - a).cross(c - a);
-            diag == 0.0
-                || (n.length() > 1e-12 * diag * diag
-                    && world.iter().all(|&p| (p - a).dot(n.normalize()).abs() <= 1e-4 * diag))
-        });
-        PartBound { lo, hi, planar }
+/// How a glTF file enters a scene: on its own (`prism render model.glb`: its camera, or one framing it, and the
+/// default sky when it has no light), or under an entity of a RON scene (`Gltf(path, ...)`).
+#[derive(Clone, Debug, Default)]
+pub struct Placement {
+    /// The entity the file's root nodes (and its cameras) are nested under.
+    pub parent: Option<Entity>,
+    /// The glTF scene to place, by index (default: the file's default scene, else the first).
+    pub scene: Option<usize>,
+    /// Materials replacing the glTF materials of these names.
+    pub materials: HashMap<String, MaterialOverride>,
+    /// A material replacing every glTF material not in `materials`.
+    pub all: Option<MaterialOverride>,
+    /// Spawn a camera: the one `--camera` picks, the first, or one framing the model.
+    pub camera: bool,
+    /// Add the default sky when the file has no light (subject to `--no-default-light`, `--env`, `--sky`).
+    pub default_light: bool,
+}
+
+impl Placement {
+    /// A file rendered on its own.
+    pub fn standalone() -> Self {
+        Placement { camera: true, default_light: true, ..Placement::default() }
     }
-
-    fn diagonal(&self) -> f32 {
-        (self.hi - self.lo).length()
-    }
 }
 
-/// The box the automatic camera frames: every part, except planar parts (grounds, backdrops) more than 3 times the
-/// size of the box of the other parts, which would leave the model sub-pixel. `None` when nothing is drawn.
-fn framed_box(parts: &[PartBound]) -> Option<(Vec3, Vec3)> {
-    let union = |it: &mut dyn Iterator<Item = &PartBound>| {
-        it.fold(None, |acc: Option<(Vec3, Vec3)>, b| {
-            if !b.lo.cmple(b.hi).all() {
-                return acc;
-            }
-            Some(acc.map_or((b.lo, b.hi), |(l, h)| (l.min(b.lo), h.max(b.hi))))
-        })
-    };
-    let solid = union(&mut parts.iter().filter(|b| !b.planar));
-    let Some((lo, hi)) = solid else { return union(&mut parts.iter()) };
-    let size = (hi - lo).length();
-    union(&mut parts.iter().filter(|b| !b.planar || b.diagonal() <= 3.0 * size))
-}
-
-/// Load a glTF file into the world.
+/// Load a glTF file into the world as the whole scene.
 pub fn load_gltf(path: &Path, world: &mut World, res: &mut Resources) -> Result<FileSettings> {
-    let bytes = prism_core::io::read_regular(path, "glTF file")?;
-    load_gltf_bytes(&bytes, path, Some(path.parent().unwrap_or(Path::new("."))), world, res)
+    place_gltf(path, world, res, &Placement::standalone())
 }
 
-/// Load glTF JSON or GLB bytes into the world; `path` names them in messages. External buffers and images
-/// resolve against `base`; with `None` they resolve to nothing (an error when the scene needs one).
+/// Place a glTF file in the world as `placement` says.
+pub fn place_gltf(path: &Path, world: &mut World, res: &mut Resources, placement: &Placement) -> Result<FileSettings> {
+    let bytes = prism_core::io::read_regular(path, "glTF file")?;
+    place_gltf_bytes(&bytes, path, Some(path.parent().unwrap_or(Path::new("."))), world, res, placement)
+}
+
+/// Load glTF JSON or GLB bytes into the world as the whole scene; `path` names them in messages. External
+/// buffers and images resolve against `base`; with `None` they resolve to nothing (an error when the scene needs
+/// one).
 pub fn load_gltf_bytes(
     bytes: &[u8],
     path: &Path,
     base: Option<&Path>,
     world: &mut World,
     res: &mut Resources,
+) -> Result<FileSettings> {
+    place_gltf_bytes(bytes, path, base, world, res, &Placement::standalone())
+}
+
+/// [`load_gltf_bytes`] as `placement` says.
+pub fn place_gltf_bytes(
+    bytes: &[u8],
+    path: &Path,
+    base: Option<&Path>,
+    world: &mut World,
+    res: &mut Resources,
+    placement: &Placement,
 ) -> Result<FileSettings> {
     // A GLB header whose total length is below the header's own 12 bytes makes the gltf crate subtract with
     // overflow (a panic with overflow checks; fuzzing).
@@ -183,7 +193,22 @@ pub fn load_gltf_bytes(
         lights: 0,
         emitters: 0,
         parts: Vec::new(),
+        placement,
     };
+    // An override naming no material of the file is a typo: say which names there are.
+    for name in placement.materials.keys() {
+        if !validated.materials().any(|m| m.name() == Some(name.as_str())) {
+            let mut names: Vec<&str> = validated.materials().filter_map(|m| m.name()).collect();
+            names.sort_unstable();
+            return Err(PrismError::format(
+                path,
+                format!(
+                    "no material named '{name}' to override (materials: {})",
+                    if names.is_empty() { "none with a name".into() } else { names.join(", ") }
+                ),
+            ));
+        }
+    }
     for ext in validated.extensions_used() {
         if !SUPPORTED.contains(&ext) {
             l.warnings.insert(format!("extension {ext} is ignored"));
@@ -199,18 +224,25 @@ pub fn load_gltf_bytes(
             validated.skins().count()
         ));
     }
-    let scene = validated.default_scene().or_else(|| validated.scenes().next());
+    let scene = match placement.scene {
+        Some(i) => Some(validated.scenes().nth(i).ok_or_else(|| {
+            PrismError::format(path, format!("no scene {i} (the file has {})", validated.scenes().count()))
+        })?),
+        None => validated.default_scene().or_else(|| validated.scenes().next()),
+    };
     if let Some(scene) = scene {
         for node in scene.nodes() {
-            l.node(&node, None, Mat4::IDENTITY, world, res, 0)?;
+            l.node(&node, placement.parent, Mat4::IDENTITY, world, res, 0)?;
         }
     } else {
         l.warnings.insert("the file has no scene: nothing to render".into());
     }
-    let want = res.overrides.camera.clone();
-    l.spawn_camera(world, want.as_deref())?;
+    if placement.camera {
+        let want = res.overrides.camera.clone();
+        l.spawn_camera(world, want.as_deref())?;
+    }
     // Emissive surfaces alone (decals, screens) rarely light a model: the sky is added then too.
-    if l.lights == 0 && crate::scene_overrides::default_light_allowed(&res.overrides) {
+    if placement.default_light && l.lights == 0 && crate::scene_overrides::default_light_allowed(&res.overrides) {
         let what = if l.emitters == 0 { "no lights" } else { "no lights but emissive surfaces" };
         eprintln!(
             "note: {}: the scene has {what}; it is lit by a uniform white environment of radiance 1 \
@@ -299,7 +331,12 @@ impl Loader<'_> {
                 self.warnings.insert("morph targets ignored: meshes are rendered with their base shape".into());
             }
             for prim in mesh.primitives() {
-                let Some((h, mat)) = self.primitive(&mesh, &prim, res)? else { continue };
+                let Some((h, mut mat)) = self.primitive(&mesh, &prim, res)? else { continue };
+                let name = prim.material().name().unwrap_or("");
+                if let Some(o) = self.placement.materials.get(name).or(self.placement.all.as_ref()) {
+                    mat.id = o.id;
+                    mat.emission = o.emission.map(|(radiance, two_sided)| (radiance, two_sided, None));
+                }
                 self.parts.push(PartBound::of(&res.meshes.get(h).positions, &m));
                 let mut cb = EntityBuilder::new();
                 cb.add(Name(format!(
@@ -337,38 +374,6 @@ impl Loader<'_> {
         Ok(())
     }
 
-    fn camera(&self, cam: &gltf::Camera, label: &str) -> Result<Camera> {
-        let (projection, aspect) = match cam.projection() {
-            gltf::camera::Projection::Perspective(p) => {
-                let fov = p.yfov().to_degrees();
-                if !(fov > 0.0 && fov < 180.0) {
-                    return Err(self.err(format!("{label}: camera yfov must be in (0, pi), got {}", p.yfov())));
-                }
-                (Projection::Perspective { fov_y: fov }, p.aspect_ratio())
-            }
-            gltf::camera::Projection::Orthographic(o) => {
-                if !(o.ymag() > 0.0 && o.xmag() > 0.0) {
-                    return Err(self.err(format!("{label}: orthographic xmag and ymag must be positive")));
-                }
-                (Projection::Orthographic { height: 2.0 * o.ymag() }, Some(o.xmag() / o.ymag()))
-            }
-        };
-        let width = match aspect {
-            Some(a) if a.is_finite() && a > 0.0 => ((480.0 * a).round() as u32).clamp(1, 16384),
-            _ => 640,
-        };
-        Ok(Camera {
-            eye: Vec3::ZERO,
-            target: Vec3::NEG_Z,
-            up: Vec3::Y,
-            projection,
-            width,
-            height: 480,
-            focus_distance: 1.0,
-            ..Camera::default()
-        })
-    }
-
     fn light(&mut self, light: &gltf::khr_lights_punctual::Light, label: &str) -> Result<Light> {
         let color = Vec3::from(light.color());
         let i = light.intensity();
@@ -401,58 +406,6 @@ impl Loader<'_> {
                 }
             }
         })
-    }
-
-    /// The camera the user asked for (or the first, or one framing the scene).
-    fn spawn_camera(&mut self, world: &mut World, want: Option<&str>) -> Result<()> {
-        let chosen = match want {
-            Some(w) => {
-                let by_name = self.cameras.iter().find(|(c, n, ..)| c == w || n == w);
-                let by_index = || w.trim().parse::<usize>().ok().and_then(|i| self.cameras.get(i));
-                Some(by_name.or_else(by_index).ok_or_else(|| {
-                    let names: Vec<String> = self
-                        .cameras
-                        .iter()
-                        .enumerate()
-                        .map(|(i, (c, n, ..))| match (c.is_empty(), n.is_empty()) {
-                            (false, _) => format!("{i} '{c}'"),
-                            (true, false) => format!("{i} '{n}'"),
-                            (true, true) => format!("{i} (unnamed)"),
-                        })
-                        .collect();
-                    self.err(format!(
-                        "no camera named or numbered '{w}' (cameras by index: {})",
-                        if names.is_empty() { "none".into() } else { names.join(", ") }
-                    ))
-                })?)
-            }
-            None => self.cameras.first(),
-        };
-        match chosen {
-            Some((_, _, c, e)) => {
-                world.insert_one(*e, *c).map_err(|_| self.err("camera entity vanished".into()))?;
-            }
-            None => {
-                let (lo, hi) = framed_box(&self.parts).unwrap_or((Vec3::splat(-1.0), Vec3::ONE));
-                let center = 0.5 * (lo + hi);
-                let radius = (0.5 * (hi - lo).length()).max(1e-6);
-                let fov: f32 = 40.0;
-                let dist = 1.1 * radius / (0.5 * fov.to_radians()).sin();
-                world.spawn((
-                    Name("camera".into()),
-                    Camera {
-                        eye: center + dist * Vec3::new(0.5, 0.4, 1.0).normalize(),
-                        target: center,
-                        projection: Projection::Perspective { fov_y: fov },
-                        width: 512,
-                        height: 512,
-                        focus_distance: dist,
-                        ..Camera::default()
-                    },
-                ));
-            }
-        }
-        Ok(())
     }
 
     /// A primitive as a stored mesh with its material; `None` for primitives Prism leaves out.

@@ -6,7 +6,7 @@ mod shape;
 
 use super::material_tables::MaterialEntry;
 use super::ron_scene::plugin_config;
-use super::schema::{AccelDesc, CameraDesc, EntityDesc, LightDesc, SceneDesc, V3};
+use super::schema::{AccelDesc, CameraDesc, EntityDesc, LightDesc, SceneDesc, ShapeDesc, V3};
 use super::transform::compose;
 use glam::Vec3;
 use hecs::{Entity, EntityBuilder, World};
@@ -55,6 +55,8 @@ struct Spawner<'r> {
     inline_meshes: HashMap<String, prism_engine::components::MeshHandle>,
     mtl_ids: HashMap<(PathBuf, String), u32>,
     part_cache: HashMap<(PathBuf, bool, bool), Vec<MeshPart>>,
+    /// No camera yet: the first glTF entity brings its own (or one framing it).
+    camera_wanted: bool,
 }
 
 fn color(v: V3, what: &str, ctx: &str) -> Result<Vec3> {
@@ -95,6 +97,7 @@ pub fn spawn_scene(
         inline_meshes: HashMap::new(),
         mtl_ids: HashMap::new(),
         part_cache: HashMap::new(),
+        camera_wanted: desc.camera.is_none(),
     };
     let textures = super::material_tables::load_textures(&desc.textures, base_dir, &ctx, sp.res)?;
     sp.materials = super::material_tables::load_materials(&desc.materials, &textures, &ctx, sp.res)?;
@@ -385,8 +388,24 @@ impl Spawner<'_> {
             }
             _ => {}
         }
+        let gltf = match &e.shape {
+            Some(ShapeDesc::Gltf { path, scene, materials }) => Some((path, *scene, Some(materials))),
+            Some(ShapeDesc::Mesh { path, flat, reverse }) if is_gltf_path(path) => {
+                if *flat || *reverse {
+                    return Err(PrismError::scene(&ctx, "`flat` and `reverse` apply to OBJ and PLY meshes, not glTF"));
+                }
+                Some((path, None, None))
+            }
+            _ => None,
+        };
+        if gltf.is_some() && (e.light.is_some() || e.alpha.is_some()) {
+            return Err(PrismError::scene(
+                &ctx,
+                "a glTF entity carries no light or alpha of its own (its emissive materials are its lights)",
+            ));
+        }
         let mut mesh_parts = Vec::new();
-        if let Some(shape) = &e.shape {
+        if let Some(shape) = e.shape.as_ref().filter(|_| gltf.is_none()) {
             match self.shape(shape, &ctx)? {
                 ShapeOut::One(s) => {
                     b.add(s);
@@ -412,6 +431,9 @@ impl Spawner<'_> {
             b.add(l.clone());
         }
         let entity = world.spawn(b.build());
+        if let Some((path, scene, overrides)) = gltf {
+            self.place_gltf(world, entity, path, scene, overrides, e.material.as_deref(), &ctx)?;
+        }
         // A multi-part OBJ: one child entity per part, each with the MTL material unless the entity names one.
         for part in mesh_parts {
             let mut cb = EntityBuilder::new();
@@ -440,6 +462,48 @@ impl Spawner<'_> {
         for (i, c) in e.children.iter().enumerate() {
             self.spawn_entity(world, c, Some(entity), material_name, &child_path(path, i))?;
         }
+        Ok(())
+    }
+}
+
+/// A `.gltf` or `.glb` path.
+fn is_gltf_path(path: &str) -> bool {
+    let ext = Path::new(path).extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
+    ext == "gltf" || ext == "glb"
+}
+
+impl Spawner<'_> {
+    /// A glTF file's scene nested under `entity`: glTF materials replaced by name (`overrides`), or all of them
+    /// by the entity's `material`.
+    #[allow(clippy::too_many_arguments)]
+    fn place_gltf(
+        &mut self,
+        world: &mut World,
+        entity: Entity,
+        path: &str,
+        scene: Option<usize>,
+        overrides: Option<&std::collections::BTreeMap<String, String>>,
+        material: Option<&str>,
+        ctx: &str,
+    ) -> Result<()> {
+        let as_override = |m: &MaterialEntry| crate::gltf::MaterialOverride { id: m.id, emission: m.emission };
+        let mut materials = HashMap::new();
+        for (gltf_name, ron_name) in overrides.into_iter().flatten() {
+            materials.insert(gltf_name.clone(), as_override(self.lookup_material(ron_name, ctx)?));
+        }
+        let all = material.map(|m| self.lookup_material(m, ctx).map(as_override)).transpose()?;
+        let placement = crate::gltf::Placement {
+            parent: Some(entity),
+            scene,
+            materials,
+            all,
+            camera: std::mem::take(&mut self.camera_wanted),
+            default_light: false,
+        };
+        let full = self.base_dir.join(path);
+        self.res.inputs.push(full.clone());
+        crate::gltf::place_gltf(&full, world, self.res, &placement)
+            .map_err(|e| PrismError::scene(ctx, e.to_string()))?;
         Ok(())
     }
 }

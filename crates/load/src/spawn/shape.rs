@@ -88,6 +88,9 @@ impl Spawner<'_> {
                 let full = self.base_dir.join(path);
                 return self.mesh_file(&full, *flat, *reverse, ctx);
             }
+            ShapeDesc::Gltf { .. } => {
+                return Err(PrismError::scene(ctx, "a glTF scene is placed by its entity, not as a shape part"));
+            }
             ShapeDesc::TriangleMesh(name) => Shape::Mesh(*self.inline_meshes.get(name).ok_or_else(|| {
                 let mut known: Vec<&str> = self.inline_meshes.keys().map(String::as_str).collect();
                 known.sort();
@@ -127,7 +130,7 @@ impl Spawner<'_> {
         if ext != "obj" && ext != "ply" {
             return Err(PrismError::scene(
                 ctx,
-                format!("mesh '{}': unsupported format (expected .obj or .ply)", path.display()),
+                format!("mesh '{}': unsupported format (expected .obj, .ply, or a .gltf/.glb scene)", path.display()),
             ));
         }
         if let Err(e) = prism_core::io::open_regular(path, "mesh file") {
