@@ -134,7 +134,7 @@ pub enum MaterialKind {
         diffuse: ColorParam,
         /// Filter on the coat's specular reflection, per RGB channel.
         specular: ColorParam,
-        /// The coat's tabulated transmittance and internal reflectance ([`RoughInterface::get`] of `ior` and the
+        /// The coat's tabulated transmittance and internal reflectance ([`RoughInterface::get`](crate::bsdf::rough_interface::RoughInterface::get) of `ior` and the
         /// constant `alpha`, or of every `alpha` for a textured one).
         interface: &'static crate::bsdf::rough_interface::RoughInterface,
     },
