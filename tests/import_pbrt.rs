@@ -1,6 +1,7 @@
 //! pbrt import: the caustic-glass files convert with the settings they ask for and render with photon mapping;
 //! pbrt's conventions (left-handed screen, fov of the shorter axis, bounce counts, blackbody spectra, roughness
-//! remapping, spot fall-off per version, orientation of emitters) come out as pbrt defines them; malformed
+//! remapping, spot fall-off per version, orientation of emitters, cylinder and partial-disk areas) come out as pbrt
+//! defines them; malformed
 //! files are one-line `file:line:col` errors.
 
 use crate::common::{app_from_file, data, render_file, scratch, spp};
@@ -430,4 +431,46 @@ fn area_light_source_area_is_the_diffuse_area_light() {
     let b = ron_of(&write("diffuse.pbrt", &scene("diffuse")));
     assert_eq!(a.replace("area.pbrt", "X"), b.replace("diffuse.pbrt", "X"));
     assert!(a.contains("Area(radiance: (2"), "{a}");
+}
+
+#[test]
+fn cylinders_and_partial_disks_have_pbrts_surface_area_and_outward_normals() {
+    let text = "LookAt 0 0 5  0 0 0  0 1 0\nCamera \"perspective\" \"float fov\" 30\n\
+        Film \"image\" \"integer xresolution\" 4 \"integer yresolution\" 4\nWorldBegin\n\
+        Shape \"cylinder\" \"float radius\" 0.5 \"float zmin\" -1 \"float zmax\" 1 \"float phimax\" 270\n\
+        Shape \"disk\" \"float radius\" 1 \"float innerradius\" 0.5 \"float phimax\" 90 \"float height\" 2\n";
+    let path = write("cylinder_disk.pbrt", text);
+    let mut app = app_from_file(&path, spp(1));
+    app.setup().unwrap();
+    let meshes = &app.resources.meshes;
+    assert_eq!(meshes.len(), 2);
+    let area = |m: &prism::mesh::MeshData| {
+        m.indices
+            .iter()
+            .map(|t| {
+                let [a, b, c] = t.map(|i| m.positions[i as usize].as_dvec3());
+                0.5 * (b - a).cross(c - a).length()
+            })
+            .sum::<f64>()
+    };
+    let (cyl, disk) = (meshes.get(prism::mesh::MeshHandle(0)), meshes.get(prism::mesh::MeshHandle(1)));
+    // Lateral area 2 pi r h (phimax / 360) = 2 pi 0.5 2 0.75; annulus sector (r^2 - ri^2) phimax / 2; within what
+    // 64 segments a turn lose (the disk's chords: 1 - sin(d) / d = 0.16% for d = 2 pi / 64).
+    let (want_cyl, want_disk) = (std::f64::consts::PI * 1.5, 0.75 * std::f64::consts::FRAC_PI_2 / 2.0);
+    assert!((area(cyl) / want_cyl - 1.0).abs() < 1e-3, "cylinder area {} vs {want_cyl}", area(cyl));
+    assert!((area(disk) / want_disk - 1.0).abs() < 2e-3, "disk sector area {} vs {want_disk}", area(disk));
+    // Nothing beyond phimax: every cylinder point has angle in [0, 270] degrees, every disk point in [0, 90].
+    let angle = |p: glam::Vec3| p.y.atan2(p.x).to_degrees().rem_euclid(360.0);
+    assert!(cyl.positions.iter().all(|p| angle(*p) <= 270.0 + 1e-3 || p.x.hypot(p.y) < 1e-6));
+    assert!(disk.positions.iter().all(|p| angle(*p) <= 90.0 + 1e-3));
+    // The cylinder's vertex normals and its triangles' winding point outwards.
+    assert_eq!(cyl.normals.len(), cyl.positions.len(), "vertex normals");
+    for (p, n) in cyl.positions.iter().zip(&cyl.normals) {
+        assert!(n.dot(glam::Vec3::new(p.x, p.y, 0.0)) > 0.0, "normal {n} at {p}");
+    }
+    for t in &cyl.indices {
+        let [a, b, c] = t.map(|i| cyl.positions[i as usize]);
+        let centre = (a + b + c) / 3.0;
+        assert!((b - a).cross(c - a).dot(glam::Vec3::new(centre.x, centre.y, 0.0)) > 0.0, "inward triangle");
+    }
 }

@@ -7,10 +7,11 @@
 //! | `trianglemesh` `P`, `indices`, `N`, `uv`/`st` | an inline mesh of the `meshes` table (stored once), `TriangleMesh(name)` |
 //! | `bilinearmesh` (v4) | two triangles per patch |
 //! | `sphere` `radius` | `Sphere(radius)` (partial spheres are made whole, with a warning) |
-//! | `disk` `height`, `radius`, `innerradius` | a 64-segment triangle ring |
+//! | `disk` `height`, `radius`, `innerradius`, `phimax` | a triangle ring (or its `phimax` sector), 64 segments a turn, pbrt's uv |
+//! | `cylinder` `radius`, `zmin`, `zmax`, `phimax` | a triangle tube (or its `phimax` part), 64 segments a turn, outward vertex normals, pbrt's uv |
 //! | `loopsubdiv` | its control mesh (not subdivided, with a warning) |
 //! | `alpha` (float or texture) | an alpha cut-out: pbrt-v3 cuts where alpha is 0 (`Mask` with a tiny cutoff), pbrt-v4 is stochastic (`Blend`) |
-//! | cylinders, cones, paraboloids, hyperboloids, curves, NURBS, height fields | left out, with a warning |
+//! | cones, paraboloids, hyperboloids, curves, NURBS, height fields | left out, with a warning |
 //!
 //! **Orientation** (which side an area light emits from, and the outside of a glass object): pbrt turns each
 //! triangle of a mesh with normals to face them, and otherwise flips the winding's side when
@@ -221,27 +222,52 @@ pub fn shape(c: &mut Converter, ty: &str, p: &Params, pos: &SourcePos) -> Result
             if !(r > 0.0 && ri >= 0.0 && ri < r) {
                 return Err(bad(pos, format!("{what}: need 0 <= innerradius < radius, got {ri} and {r}")));
             }
-            if p.float("phimax", 360.0)? < 360.0 {
-                c.warn("partial disks (phimax) are rendered whole");
-            }
-            let k = 64;
-            let mut pts = Vec::new();
-            let mut uv = Vec::new();
-            for i in 0..k {
-                let phi = std::f64::consts::TAU * i as f64 / k as f64;
+            let phimax = phi_max(p, &what, pos)?;
+            // pbrt's disk: (r cos phi, r sin phi, height) for phi in [0, phimax]; u = phi / phimax, v = 1 at the
+            // inner radius; its normal is +z.
+            let k = segments(phimax);
+            let (mut pts, mut uv, mut tris) = (Vec::new(), Vec::new(), Vec::new());
+            for i in 0..=k {
+                let phi = phimax * i as f64 / k as f64;
                 for (rad, v) in [(r, 0.0), (ri.max(r * 1e-6), 1.0)] {
                     pts.push([rad * phi.cos(), rad * phi.sin(), h]);
                     uv.push([i as f64 / k as f64, v]);
                 }
             }
-            let mut tris = Vec::new();
             for i in 0..k as u32 {
-                let j = (i + 1) % k as u32;
-                let (o0, i0, o1, i1) = (2 * i, 2 * i + 1, 2 * j, 2 * j + 1);
+                let (o0, i0, o1, i1) = (2 * i, 2 * i + 1, 2 * i + 2, 2 * i + 3);
                 tris.push([o0, o1, i1]);
                 tris.push([o0, i1, i0]);
             }
             let name = inline_mesh(c, &pts, &tris, None, Some(&uv), mirror, pos)?;
+            format!("TriangleMesh({})", quote(&name))
+        }
+        "cylinder" => {
+            let (r, z0, z1) = (p.float("radius", 1.0)?, p.float("zmin", -1.0)?, p.float("zmax", 1.0)?);
+            if !(r > 0.0 && r.is_finite() && z0.is_finite() && z1.is_finite() && z0 != z1) {
+                return Err(bad(pos, format!("{what}: need radius > 0 and zmin != zmax, got {r}, {z0}, {z1}")));
+            }
+            let (z0, z1) = (z0.min(z1), z0.max(z1));
+            let phimax = phi_max(p, &what, pos)?;
+            // pbrt's cylinder: (r cos phi, r sin phi, z), u = phi / phimax, v = (z - zmin) / (zmax - zmin), the
+            // normal outwards; smooth vertex normals over 64 segments a turn.
+            let k = segments(phimax);
+            let (mut pts, mut nrm, mut uv, mut tris) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+            for i in 0..=k {
+                let phi = phimax * i as f64 / k as f64;
+                for (z, v) in [(z0, 0.0), (z1, 1.0)] {
+                    pts.push([r * phi.cos(), r * phi.sin(), z]);
+                    nrm.push([phi.cos(), phi.sin(), 0.0]);
+                    uv.push([i as f64 / k as f64, v]);
+                }
+            }
+            for i in 0..k as u32 {
+                let (a0, a1, b0, b1) = (2 * i, 2 * i + 1, 2 * i + 2, 2 * i + 3);
+                // Counter-clockwise seen from outside: the geometric normal agrees with the vertex normals.
+                tris.push([a0, b0, b1]);
+                tris.push([a0, b1, a1]);
+            }
+            let name = inline_mesh(c, &pts, &tris, Some(&nrm), Some(&uv), mirror, pos)?;
             format!("TriangleMesh({})", quote(&name))
         }
         other => {
@@ -298,4 +324,18 @@ fn alpha(c: &mut Converter, p: &Params, pos: &SourcePos) -> Result<Option<String
             Some(format!("(texture: {}, factor: {}, mode: {mode})", quote(&ron), num(scale[0].clamp(0.0, 1.0))))
         }
     })
+}
+
+/// `phimax` in radians, checked to lie in (0, 360] degrees.
+fn phi_max(p: &Params, what: &str, pos: &SourcePos) -> Result<f64> {
+    let d = p.float("phimax", 360.0)?;
+    if !(d > 0.0 && d <= 360.0) {
+        return Err(bad(pos, format!("{what}: phimax must be in (0, 360] degrees, got {d}")));
+    }
+    Ok(d.to_radians())
+}
+
+/// Segments for an arc of `phi` radians: 64 a full turn, at least 4.
+fn segments(phi: f64) -> usize {
+    ((64.0 * phi / std::f64::consts::TAU).ceil() as usize).max(4)
 }
