@@ -1,5 +1,6 @@
 //! glTF files composed into RON scenes: a `Gltf(path)` entity nests the file's nodes under its transform, its
-//! materials can be replaced by name (or all by the entity's material), several files share one scene, a RON
+//! materials can be replaced by name (or all by the entity's material), several files share one scene (a file
+//! placed twice stores its meshes and materials once), a RON
 //! scene without a camera takes the first file's, `Mesh(path: "x.gltf")` is the same entity, and `prism convert
 //! model.gltf -o scene.ron` writes a scene that renders the same bytes as the file.
 
@@ -101,7 +102,8 @@ fn several_gltf_files_share_a_scene_and_a_scene_without_camera_takes_the_first_f
     );
     let mut app = app_from_ron(&scene(&two, false), Overrides { spp: Some(1), ..Default::default() });
     app.setup().unwrap();
-    assert_eq!(app.resources.meshes.len(), 2, "each placement reads its file");
+    assert_eq!(app.resources.meshes.len(), 1, "a file placed twice stores its mesh once");
+    assert_eq!(app.resources.materials.len(), 3, "and its material once (beside the default and \"red\")");
     let cams = app.world.query_mut::<&prism::camera::Camera>().into_iter().count();
     assert_eq!(cams, 1, "the first glTF brings the (framing) camera, the second none");
     // `Mesh(path: "x.gltf")` is `Gltf(path: "x.gltf")`.

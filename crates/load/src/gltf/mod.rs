@@ -68,7 +68,7 @@ struct Loader<'a> {
     buffers: &'a Buffers,
     mats: material::Materials<'a>,
     /// (mesh, primitive) -> the stored mesh and its resolved material.
-    prim_cache: HashMap<(usize, usize), Option<(MeshHandle, material::Resolved)>>,
+    prim_cache: &'a mut PrimCache,
     warnings: BTreeSet<String>,
     cameras: Vec<(String, String, Camera, Entity)>,
     lights: usize,
@@ -77,6 +77,11 @@ struct Loader<'a> {
     parts: Vec<PartBound>,
     placement: &'a Placement,
 }
+
+/// The primitives of one glTF file already stored (meshes, resolved materials), by (mesh, primitive) index: a
+/// file placed several times in a scene stores its meshes and materials once.
+#[derive(Default)]
+pub struct PrimCache(HashMap<(usize, usize), Option<(MeshHandle, material::Resolved)>>);
 
 /// A material that replaces a glTF material: its index in the scene's materials and its emission (radiance,
 /// two-sided), if it emits.
@@ -115,13 +120,20 @@ impl Placement {
 
 /// Load a glTF file into the world as the whole scene.
 pub fn load_gltf(path: &Path, world: &mut World, res: &mut Resources) -> Result<FileSettings> {
-    place_gltf(path, world, res, &Placement::standalone())
+    place_gltf(path, world, res, &Placement::standalone(), &mut PrimCache::default())
 }
 
-/// Place a glTF file in the world as `placement` says.
-pub fn place_gltf(path: &Path, world: &mut World, res: &mut Resources, placement: &Placement) -> Result<FileSettings> {
+/// Place a glTF file in the world as `placement` says; `cache` holds what earlier placements of the same file
+/// stored (start with an empty one per file).
+pub fn place_gltf(
+    path: &Path,
+    world: &mut World,
+    res: &mut Resources,
+    placement: &Placement,
+    cache: &mut PrimCache,
+) -> Result<FileSettings> {
     let bytes = prism_core::io::read_regular(path, "glTF file")?;
-    place_gltf_bytes(&bytes, path, Some(path.parent().unwrap_or(Path::new("."))), world, res, placement)
+    place_gltf_bytes(&bytes, path, Some(path.parent().unwrap_or(Path::new("."))), world, res, placement, cache)
 }
 
 /// Load glTF JSON or GLB bytes into the world as the whole scene; `path` names them in messages. External
@@ -134,10 +146,10 @@ pub fn load_gltf_bytes(
     world: &mut World,
     res: &mut Resources,
 ) -> Result<FileSettings> {
-    place_gltf_bytes(bytes, path, base, world, res, &Placement::standalone())
+    place_gltf_bytes(bytes, path, base, world, res, &Placement::standalone(), &mut PrimCache::default())
 }
 
-/// [`load_gltf_bytes`] as `placement` says.
+/// [`load_gltf_bytes`] as `placement` says, reusing what `cache` holds of the same file.
 pub fn place_gltf_bytes(
     bytes: &[u8],
     path: &Path,
@@ -145,6 +157,7 @@ pub fn place_gltf_bytes(
     world: &mut World,
     res: &mut Resources,
     placement: &Placement,
+    cache: &mut PrimCache,
 ) -> Result<FileSettings> {
     // A GLB header whose total length is below the header's own 12 bytes makes the gltf crate subtract with
     // overflow (a panic with overflow checks; fuzzing).
@@ -187,7 +200,7 @@ pub fn place_gltf_bytes(
         file: path,
         buffers: &buffers,
         mats: material::Materials::new(path, base, &buffers),
-        prim_cache: HashMap::new(),
+        prim_cache: cache,
         warnings: BTreeSet::new(),
         cameras: Vec::new(),
         lights: 0,
@@ -416,7 +429,7 @@ impl Loader<'_> {
         res: &mut Resources,
     ) -> Result<Option<(MeshHandle, material::Resolved)>> {
         let key = (mesh.index(), prim.index());
-        if let Some(c) = self.prim_cache.get(&key) {
+        if let Some(c) = self.prim_cache.0.get(&key) {
             return Ok(c.clone());
         }
         let what = format!(
@@ -426,7 +439,7 @@ impl Loader<'_> {
             prim.index()
         );
         let out = self.read_primitive(prim, &what, res)?;
-        self.prim_cache.insert(key, out.clone());
+        self.prim_cache.0.insert(key, out.clone());
         Ok(out)
     }
 

@@ -18,7 +18,7 @@ pub fn gltf_to_ron(file: &Path, out_dir: &Path, camera: Option<&str>) -> Result<
     res.overrides.camera = camera.map(str::to_string);
     res.overrides.no_default_light = true;
     res.materials.push(prism_core::material::Material::default());
-    super::place_gltf(file, &mut world, &mut res, &Placement::standalone())?;
+    super::place_gltf(file, &mut world, &mut res, &Placement::standalone(), &mut Default::default())?;
     let cam = crate::scene_overrides::camera_in_world(&world)?;
     let lit = world.query::<&Light>().iter().any(|l| !matches!(l, Light::Area { .. }));
     let v = |p: glam::Vec3| format!("({:?}, {:?}, {:?})", p.x, p.y, p.z);

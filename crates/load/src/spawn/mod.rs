@@ -57,6 +57,8 @@ struct Spawner<'r> {
     part_cache: HashMap<(PathBuf, bool, bool), Vec<MeshPart>>,
     /// No camera yet: the first glTF entity brings its own (or one framing it).
     camera_wanted: bool,
+    /// What each placed glTF file stored, so a file placed again stores nothing new.
+    gltf_cache: HashMap<PathBuf, crate::gltf::PrimCache>,
 }
 
 fn color(v: V3, what: &str, ctx: &str) -> Result<Vec3> {
@@ -98,6 +100,7 @@ pub fn spawn_scene(
         mtl_ids: HashMap::new(),
         part_cache: HashMap::new(),
         camera_wanted: desc.camera.is_none(),
+        gltf_cache: HashMap::new(),
     };
     let textures = super::material_tables::load_textures(&desc.textures, base_dir, &ctx, sp.res)?;
     sp.materials = super::material_tables::load_materials(&desc.materials, &textures, &ctx, sp.res)?;
@@ -502,7 +505,8 @@ impl Spawner<'_> {
         };
         let full = self.base_dir.join(path);
         self.res.inputs.push(full.clone());
-        crate::gltf::place_gltf(&full, world, self.res, &placement)
+        let cache = self.gltf_cache.entry(full.clone()).or_default();
+        crate::gltf::place_gltf(&full, world, self.res, &placement, cache)
             .map_err(|e| PrismError::scene(ctx, e.to_string()))?;
         Ok(())
     }
