@@ -89,18 +89,22 @@ fn replace_environment(world: &mut World, res: &mut Resources, env: &EnvOverride
 
 /// The scene's camera with its eye, target and up in world space (its parents' frames composed in).
 pub fn camera_in_world(world: &World) -> Result<Camera> {
-    let e = world
+    scene_camera(world).map(|(_, cam)| cam)
+}
+
+/// The scene's camera entity, and its camera with eye, target and up in world space.
+fn scene_camera(world: &World) -> Result<(Entity, Camera)> {
+    let (e, mut cam) = world
         .query::<(Entity, &Camera)>()
         .iter()
-        .map(|(e, _)| e)
+        .map(|(e, c)| (e, *c))
         .next()
         .ok_or_else(|| PrismError::invalid("the scene has no camera"))?;
     let m = world_from_camera(world, e)?;
-    let mut cam = *world.get::<&Camera>(e).map_err(|_| PrismError::invalid("camera entity vanished"))?;
     cam.eye = m.transform_point3(cam.eye);
     cam.target = m.transform_point3(cam.target);
     cam.up = m.transform_vector3(cam.up);
-    Ok(cam)
+    Ok((e, cam))
 }
 
 /// The camera's frame composed with its parents' (the Propagate stage has not run yet).
@@ -123,14 +127,7 @@ fn world_from_camera(world: &World, cam: Entity) -> Result<Affine3A> {
 }
 
 fn apply_view(world: &mut World, view: &ViewOverride) -> Result<()> {
-    let cam_entity = world
-        .query::<(Entity, &Camera)>()
-        .iter()
-        .map(|(e, _)| e)
-        .next()
-        .ok_or_else(|| PrismError::invalid("the scene has no camera to move"))?;
-    let m = world_from_camera(world, cam_entity)?;
-    let mut cam = *world.get::<&Camera>(cam_entity).map_err(|_| PrismError::invalid("camera entity vanished"))?;
+    let (cam_entity, mut cam) = scene_camera(world)?;
     let check = |v: Option<Vec3>, flag: &str| -> Result<Option<Vec3>> {
         match v {
             Some(p) if !p.is_finite() || p.abs().max_element() > prism_core::limits::MAX_COORDINATE => {
@@ -139,9 +136,9 @@ fn apply_view(world: &mut World, view: &ViewOverride) -> Result<()> {
             other => Ok(other),
         }
     };
-    let eye = check(view.from, "--look-from")?.unwrap_or_else(|| m.transform_point3(cam.eye));
-    let target = check(view.at, "--look-at")?.unwrap_or_else(|| m.transform_point3(cam.target));
-    let up = check(view.up, "--up")?.unwrap_or_else(|| m.transform_vector3(cam.up));
+    let eye = check(view.from, "--look-from")?.unwrap_or(cam.eye);
+    let target = check(view.at, "--look-at")?.unwrap_or(cam.target);
+    let up = check(view.up, "--up")?.unwrap_or(cam.up);
     let forward = prism_core::math::unit_vector(target - eye)
         .ok_or_else(|| PrismError::invalid(format!("--look-from and --look-at are the same point ({eye})")))?;
     if prism_core::math::unit_vector(forward.cross(up)).is_none() {
