@@ -60,6 +60,7 @@ fn eye_pass(s: &Setup) -> EyePass<'_> {
         direct_lighting: true,
         pixel_centre: false,
         trace_glossy: true,
+        split_near_specular: true,
     }
 }
 
@@ -80,7 +81,7 @@ fn gather_all(s: &Setup, eye: &[EyeResult], r: &[f32], q: &Lookup) -> u64 {
     eye.par_iter()
         .zip(r.par_iter())
         .map(|(e, &r)| match &e.vp {
-            Some(vp) => gather(&s.scene, vp, r, 256, |p, r, f| q(p, r, f)).1 as u64,
+            Some(vp) => gather(&s.scene, vp, r, 256, true, |p, r, f| q(p, r, f)).1 as u64,
             None => 0,
         })
         .sum()

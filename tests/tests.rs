@@ -37,6 +37,7 @@ mod lights;
 mod microfacet;
 mod mit6837;
 mod mit6837_solid;
+mod near_specular;
 mod patch_stability;
 mod plugin;
 mod ppm;

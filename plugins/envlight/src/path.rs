@@ -30,19 +30,24 @@ struct Prev {
     n: Vec3A,
     pdf: f32,
     delta: bool,
+    /// Without MIS: the share of the BSDF's value in the sampled direction held by its near-specular parts, which
+    /// light sampling leaves to BSDF sampling (`Bsdf::near_specular_share`; zero when it has none).
+    near_specular: Vec3,
 }
 
 impl PathTracer {
-    /// MIS weight of emission reached by a BSDF sample whose light-sampling pdf would have been `light_pdf`.
+    /// MIS weight (per RGB channel) of emission reached by a BSDF sample whose light-sampling pdf would have been
+    /// `light_pdf`.
     #[inline]
-    fn bsdf_weight(&self, prev: &Option<Prev>, light_pdf: f32) -> f32 {
+    fn bsdf_weight(&self, prev: &Option<Prev>, light_pdf: f32) -> Vec3 {
         match prev {
-            None => 1.0,
-            Some(p) if p.delta => 1.0,
-            Some(p) if self.params.mis => power_heuristic(p.pdf, light_pdf),
-            // Without MIS, emission that light sampling can reach is counted by light sampling only.
-            Some(_) if light_pdf > 0.0 => 0.0,
-            Some(_) => 1.0,
+            None => Vec3::ONE,
+            Some(p) if p.delta => Vec3::ONE,
+            Some(p) if self.params.mis => Vec3::splat(power_heuristic(p.pdf, light_pdf)),
+            // Without MIS, emission that light sampling can reach is counted by light sampling only, but for the
+            // near-specular parts of the BSDF, which light sampling leaves to this sample.
+            Some(p) if light_pdf > 0.0 => p.near_specular,
+            Some(_) => Vec3::ONE,
         }
     }
 }
@@ -159,7 +164,12 @@ impl PathTracer {
             if beta.max_element() <= 0.0 {
                 break;
             }
-            prev = Some(Prev { p: s.p, n: bsdf.normal(), pdf: bs.pdf, delta: bs.delta });
+            let near_specular = if self.params.mis || bs.delta || !bsdf.has_near_specular() {
+                Vec3::ZERO
+            } else {
+                bsdf.near_specular_share(bs.wi)
+            };
+            prev = Some(Prev { p: s.p, n: bsdf.normal(), pdf: bs.pdf, delta: bs.delta, near_specular });
             depth += 1;
             if depth >= self.params.rr_depth {
                 // Survival by throughput against a threshold, the radiance scaling of refractions undone (a path

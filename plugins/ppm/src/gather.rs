@@ -84,13 +84,15 @@ impl PixelStats {
 }
 
 /// Sum of photon power x BSDF over the photons within `r` of the visible point whose full path has at most
-/// `max_segments` segments, and their count; `query` walks the lookup structure.
+/// `max_segments` segments, and their count; `query` walks the lookup structure. With `wide_only` the BSDF's
+/// near-specular parts are left out (the eye pass counts them: `visible.rs`).
 #[inline]
 pub fn gather(
     scene: &Scene,
     vp: &VisiblePoint,
     r: f32,
     max_segments: u32,
+    wide_only: bool,
     query: impl FnOnce(Vec3A, f32, &mut dyn FnMut(&Photon)),
 ) -> (DVec3, u32) {
     let Some(bsdf) = scene.bsdf(&vp.hit, vp.wo) else {
@@ -104,7 +106,7 @@ pub fn gather(
             return;
         }
         m += 1;
-        let c: Vec3 = ph.beta * bsdf.eval(ph.wi);
+        let c: Vec3 = ph.beta * if wide_only { bsdf.eval_wide(ph.wi) } else { bsdf.eval(ph.wi) };
         if c != Vec3::ZERO {
             phi.add(FixedRgb::from_rgb(c.x as f64, c.y as f64, c.z as f64));
         }

@@ -6,6 +6,13 @@
 //! delta lobe otherwise, so nothing is lost. Emission seen along the chain (lights, the environment on escape) is
 //! added to the pixel; in stochastic mode the visible point also receives next-event estimation of direct light.
 //!
+//! In stochastic mode near-specular parts (a plastic's coat of GGX width under 0.01, such metals under
+//! `glossy: gather`; `prism_core::bsdf::NEAR_SPECULAR_ALPHA`) are split off the same way: light sampling and photons
+//! cannot find what so narrow a lobe reflects, so the lobe choice continues the chain through them (weight: the
+//! near-specular part's value over its density) and the visible point takes the rest of the BSDF
+//! (`Bsdf::eval_wide`) with weight `1 / P(wide)`. Point, spot and directional lights, which the chain cannot hit,
+//! still light the visible point through the whole BSDF.
+//!
 //! Glossy surfaces (smooth lobes, none diffuse: rough metal and glass) are traced through by default
 //! (`glossy: trace`, pbrt-v4's rule): the vertex gets next-event estimation weighted by multiple importance
 //! sampling (power heuristic) against the BSDF sample that continues the path, whose emission found at the next
@@ -16,7 +23,7 @@
 //! glossy surface itself.
 
 use glam::{Vec2, Vec3, Vec3A};
-use prism_core::bsdf::Bsdf;
+use prism_core::bsdf::{Bsdf, BsdfPart};
 use prism_core::lights::LightSampler;
 use prism_core::primitives::SurfaceHit;
 use prism_core::sampling::{Rng, Sampler, SamplerKind, hash_u64, power_heuristic};
@@ -57,6 +64,9 @@ pub struct EyePass<'a> {
     pub pixel_centre: bool,
     /// Trace on through glossy surfaces instead of putting the visible point on them (see the module doc).
     pub trace_glossy: bool,
+    /// Continue the chain through near-specular parts and give the visible point the rest (stochastic mode; see
+    /// the module doc). Photon gathers then use `Bsdf::eval_wide` too.
+    pub split_near_specular: bool,
 }
 
 /// The eye vertex from which Russian roulette may end a path traced through glossy surfaces.
@@ -140,9 +150,18 @@ impl EyePass<'_> {
                 continue;
             }
             glossy = None;
-            let p_smooth = bsdf.smooth_probability();
-            if p_smooth > 0.0 && !bsdf.picks_delta(u_lobe) {
-                let vp_beta = beta / p_smooth;
+            let split = self.split_near_specular && bsdf.has_near_specular();
+            let (p_wide, part) = if split {
+                ((bsdf.smooth_probability() - bsdf.near_specular_probability()).max(0.0), bsdf.part(u_lobe))
+            } else {
+                let delta = bsdf.picks_delta(u_lobe);
+                (bsdf.smooth_probability(), if delta { BsdfPart::Delta } else { BsdfPart::Wide })
+            };
+            if part == BsdfPart::Wide {
+                if p_wide <= 0.0 {
+                    break;
+                }
+                let vp_beta = beta / p_wide;
                 // Direct light adds a segment; a visible point needs room for a photon's two segments at least.
                 if self.direct_lighting && depth + 2 <= self.max_segments {
                     out.direct += vp_beta * self.direct(&hit, &bsdf, u_choice, u_light);
@@ -153,7 +172,14 @@ impl EyePass<'_> {
                 break;
             }
             let Some(bs) = bsdf.sample(u_lobe, u_bsdf) else { break };
-            beta *= bs.weight;
+            let weight = match part {
+                BsdfPart::NearSpecular => {
+                    let Some(w) = bsdf.near_specular_weight(bs.wi) else { break };
+                    w
+                }
+                _ => bs.weight,
+            };
+            beta *= weight;
             eta2 *= bs.eta * bs.eta;
             if !(beta.max_element() > 0.0 && beta.is_finite()) {
                 break;
@@ -164,7 +190,8 @@ impl EyePass<'_> {
     }
 
     /// Next-event estimation of direct light at a visible point (light sampling alone: the eye path ends here, so
-    /// there is no BSDF-sampled emission to weigh against).
+    /// there is no BSDF-sampled emission to weigh against), through the BSDF without its near-specular parts for
+    /// lights the chain can hit when those parts are split off (see the module doc).
     fn direct(&self, hit: &SurfaceHit, bsdf: &Bsdf, u_choice: f32, u_light: Vec2) -> Vec3 {
         let scene = self.scene;
         let n = bsdf.normal();
@@ -172,7 +199,7 @@ impl EyePass<'_> {
             return Vec3::ZERO;
         };
         // The BSDF is zero on the side it does not scatter to (transmissive lobes scatter to both).
-        let f = bsdf.eval(ls.wi);
+        let f = if self.split_near_specular && !ls.delta { bsdf.eval_wide(ls.wi) } else { bsdf.eval(ls.wi) };
         let cos = ls.wi.dot(n).abs();
         if f == Vec3::ZERO || ls.pdf <= 0.0 || scene.occluded(&ls.shadow_ray(hit)) {
             return Vec3::ZERO;

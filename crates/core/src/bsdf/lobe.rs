@@ -458,7 +458,7 @@ impl Lobe {
 
 /// Probability of sampling the plastic's specular coat rather than its base.
 #[inline]
-fn plastic_specular_probability(wo: Vec3A, eta: f32, diffuse: Vec3, specular: Vec3) -> f32 {
+pub(super) fn plastic_specular_probability(wo: Vec3A, eta: f32, diffuse: Vec3, specular: Vec3) -> f32 {
     let f = fresnel_dielectric(wo.z, eta);
     let (s, d) = (f * luminance(specular), (1.0 - f) * luminance(diffuse));
     if s + d > 0.0 { s / (s + d) } else { 0.5 }

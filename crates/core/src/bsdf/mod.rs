@@ -15,13 +15,17 @@
 //!   (photons, light paths) it does not, and every value is multiplied by Veach's shading-normal correction
 //!   `|wo.ns| |wi.ng| / (|wo.ng| |wi.ns|)` (the adjoint BSDF, so that the usual `f |wi.ns| / pdf` throughput is
 //!   right for particles; thesis section 5.3). `eval`, `pdf` and `sample` are the radiance versions.
+//! - Near-specular parts (`near_specular.rs`): estimators without multiple importance sampling count lobes too
+//!   narrow for light sampling by BSDF sampling alone.
 
 pub mod fresnel;
 mod lobe;
 pub mod microfacet;
+mod near_specular;
 pub mod rough_interface;
 
 pub use lobe::{ConductorFresnel, Lobe, LobeSample};
+pub use near_specular::{BsdfPart, NEAR_SPECULAR_ALPHA};
 
 use crate::math::Frame;
 use crate::sampling::DirectionPoint;
