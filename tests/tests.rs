@@ -38,6 +38,7 @@ mod microfacet;
 mod mit6837;
 mod mit6837_solid;
 mod near_specular;
+mod noise_target;
 mod patch_stability;
 mod plugin;
 mod ppm;

@@ -169,6 +169,7 @@ pub fn run(args: RaytracerArgs) -> anyhow::Result<()> {
         spp: Some(o.samples.map_or(1, |s| s.1)),
         passes: None,
         time: None,
+        noise: None,
         size: o.size,
         seed: None,
         threads: None,

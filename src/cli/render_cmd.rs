@@ -40,6 +40,10 @@ pub struct RenderArgs {
     /// Time budget in seconds: stop when it is spent, cutting the pass then running short (unlimited samples unless --spp is given)
     #[arg(long, allow_negative_numbers = true)]
     pub time: Option<f64>,
+    /// Noise target: stop after the first pass at which the image's estimated relative error (relMSE, from the
+    /// film itself) is at most REL; unlimited samples unless --spp or --time is given (then at most 65536 spp)
+    #[arg(long, value_name = "REL", allow_negative_numbers = true)]
+    pub noise: Option<f32>,
     /// Image size, WIDTHxHEIGHT.
     #[arg(long, value_parser = parse_size)]
     pub size: Option<(u32, u32)>,
@@ -305,26 +309,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
     let mut app = App::with(crate::DefaultPlugins);
     let r = &mut app.resources;
     r.source = SceneSource::File(args.scene.clone());
-    r.overrides = Overrides {
-        size: args.size,
-        spp: args.spp,
-        passes: args.passes,
-        sampler: args.sampler,
-        pattern: args.pattern,
-        filter: args.filter,
-        adaptive: args.adaptive,
-        seed: args.seed,
-        time_budget: args.time,
-        spp_unlimited: args.time.is_some(),
-        integrator: args.integrator.clone(),
-        accel: accel_override(args.accel, args.grid.as_deref())?,
-        exposure: args.exposure,
-        shard: args.shard,
-        camera: args.camera.clone(),
-        exact_curves: args.exact_curves,
-        ..Overrides::default()
-    };
-    args.view.apply(&mut r.overrides);
+    r.overrides = overrides(&args)?;
     r.outputs = outputs.clone();
     r.resume = args.resume.clone();
     // Checkpoints and interruptions save the film beside the first output (or in the .prism-film output).
@@ -376,6 +361,9 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
         if let Some(note) = res.integrator.as_ref().and_then(|i| i.status()) {
             eprintln!("{}: {note}", s.integrator.name);
         }
+        if let Some(target) = s.noise {
+            eprintln!("{}", noise_line(target, p.noise, p.spp_done, p.finished && !p.interrupted));
+        }
         if let Some(f) = &res.film
             && f.nonfinite > 0
         {
@@ -401,4 +389,42 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
         ));
     }
     Ok(())
+}
+
+/// The summary's noise line: the estimate against the target, and whether the target stopped the render.
+fn noise_line(target: f32, estimate: Option<f64>, spp: u64, finished: bool) -> String {
+    match estimate {
+        Some(e) if e <= target as f64 => format!("noise: estimated relMSE {e:.3e} at {spp} spp, target {target:e} met"),
+        Some(e) if finished => format!(
+            "noise: estimated relMSE {e:.3e} at {spp} spp, above the target {target:e} (the sample or time limit came first)"
+        ),
+        Some(e) => format!("noise: estimated relMSE {e:.3e} at {spp} spp, target {target:e}"),
+        None => format!("noise: no estimate yet at {spp} spp (it needs two complete passes), target {target:e}"),
+    }
+}
+
+/// The command line's overrides of the scene's settings (`prism render` and `prism watch`).
+pub(super) fn overrides(args: &RenderArgs) -> anyhow::Result<Overrides> {
+    let mut o = Overrides {
+        size: args.size,
+        spp: args.spp,
+        passes: args.passes,
+        sampler: args.sampler,
+        pattern: args.pattern,
+        filter: args.filter,
+        adaptive: args.adaptive,
+        seed: args.seed,
+        time_budget: args.time,
+        spp_unlimited: args.time.is_some() || args.noise.is_some(),
+        noise: args.noise,
+        integrator: args.integrator.clone(),
+        accel: accel_override(args.accel, args.grid.as_deref())?,
+        exposure: args.exposure,
+        shard: args.shard,
+        camera: args.camera.clone(),
+        exact_curves: args.exact_curves,
+        ..Overrides::default()
+    };
+    args.view.apply(&mut o);
+    Ok(o)
 }

@@ -177,6 +177,9 @@ pub struct RenderSettings {
     pub seed: u64,
     /// Stop when this many seconds of rendering are spent (the pass then running is cut short).
     pub time_budget: Option<f64>,
+    /// Stop after the first pass at which the image's estimated relative error (relMSE, estimated from the film:
+    /// `film::noise`) is at most this (`--noise`, RON `render: (noise: Some(..))`).
+    pub noise: Option<f32>,
     /// The rendering method and its parameters.
     pub integrator: PluginConfig,
     /// The accelerator built over the bounded primitives.
@@ -202,6 +205,7 @@ impl Default for RenderSettings {
             adaptive: false,
             seed: 0,
             time_budget: None,
+            noise: None,
             integrator: PluginConfig::named("phong"),
             accel: AccelKind::Bvh,
             exposure: 0.0,
@@ -341,6 +345,11 @@ impl RenderSettings {
                 ),
             ));
         }
+        if let Some(n) = self.noise
+            && !(n.is_finite() && n > 0.0)
+        {
+            return Err(("noise", format!("noise target must be a positive relative error (relMSE), got {n}")));
+        }
         self.filter.validate().map_err(|m| ("filter", m))?;
         if !(self.exposure.is_finite() && self.exposure.abs() <= MAX_EXPOSURE) {
             return Err((
@@ -353,7 +362,10 @@ impl RenderSettings {
             return Err(("shard", format!("--shard {k}/{n}: K must be below N")));
         }
         if n > 1 && self.spp.is_none() {
-            return Err(("shard", "--shard needs a sample count (--spp), not only a time budget".into()));
+            return Err((
+                "shard",
+                "--shard needs a sample count (--spp), not only a time budget or a noise target".into(),
+            ));
         }
         if let Some(spp) = self.spp
             && n > self.passes.min(spp)
@@ -458,8 +470,10 @@ pub struct Overrides {
     pub seed: Option<u64>,
     /// Stop when this many seconds of rendering are spent (the pass then running is cut short).(`--time`).
     pub time_budget: Option<f64>,
-    /// No sample limit unless `spp` is given (set with a time budget on the command line).
+    /// No sample limit unless `spp` is given (set with a time budget or a noise target on the command line).
     pub spp_unlimited: bool,
+    /// The noise target (`--noise`): stop when the estimated relMSE is at most this.
+    pub noise: Option<f32>,
     /// The integrator spec, `name` or `name(params)` (`--integrator`), parsed by [`PluginConfig::from_spec`].
     pub integrator: Option<String>,
     /// The accelerator (`--accel`, with `--grid` for a fixed grid resolution).

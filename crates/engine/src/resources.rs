@@ -55,6 +55,11 @@ pub struct Progress {
     pub interrupted: bool,
     /// Time spent in the set-up stages before the first pass.
     pub setup: Duration,
+    /// The image's estimated relMSE after the last pass, in a render with a noise target.
+    pub noise: Option<f64>,
+    /// The render ended because the estimate met the noise target (its film is then complete with the passes
+    /// done).
+    pub noise_met: bool,
 }
 
 impl Default for Progress {
@@ -69,6 +74,8 @@ impl Default for Progress {
             finished: false,
             interrupted: false,
             setup: Duration::ZERO,
+            noise: None,
+            noise_met: false,
         }
     }
 }

@@ -236,9 +236,11 @@ fn resolve_settings(world: &mut World, res: &mut Resources, f: FileSettings) -> 
         (None, None) => d.integrator.clone(),
     };
     let time_budget = o.time_budget.or(f.time);
+    let noise = o.noise.or(f.noise);
     // A time budget given without a sample count renders until the budget is spent.
-    let spp =
-        if o.spp_unlimited && o.spp.is_none() { None } else { Some(o.spp.or(f.spp).unwrap_or(d.spp.unwrap_or(16))) };
+    // So does a scene's noise target without a sample count (up to `MAX_NOISE_SPP`).
+    let unlimited = o.spp_unlimited || (f.noise.is_some() && f.spp.is_none());
+    let spp = if unlimited && o.spp.is_none() { None } else { Some(o.spp.or(f.spp).unwrap_or(d.spp.unwrap_or(16))) };
     let adaptive = o.adaptive.or(f.adaptive).unwrap_or(d.adaptive);
     let shards = o.shard.unwrap_or(d.shard).1;
     // Passes given (on the command line, or in the scene unless the command line sets the sample count) split the
@@ -255,6 +257,11 @@ fn resolve_settings(world: &mut World, res: &mut Resources, f: FileSettings) -> 
         // Without a sample limit `passes` sets the passes' size (below), not their number.
         (Some(_), None) => (u32::MAX, None),
         (None, None) => (u32::MAX, None),
+        // A noise target checks the error after every pass: passes of `NOISE_PASS_SPP` samples.
+        (None, Some(n)) if noise.is_some() && (f.passes.is_none() || o.spp.is_some()) => {
+            let p = (n / prism_core::film::NOISE_PASS_SPP).max(1);
+            if adaptive { with_pilot(n, p.max(2)) } else { (p, None) }
+        }
         (None, Some(n)) => match f.passes {
             Some(p) if o.spp.is_none() && adaptive => with_pilot(n, p),
             Some(p) if o.spp.is_none() => (p.min(n), None),
@@ -265,7 +272,11 @@ fn resolve_settings(world: &mut World, res: &mut Resources, f: FileSettings) -> 
     // line's, else the scene's) or up to 16 passes; the budget stops the pass it runs out in (that pass is cut short
     // and does not count), and convergence curves sample time through these budgets.
     let scene_spp = f.spp.unwrap_or(16);
-    let pass_spp = (scene_spp / o.passes.or(f.passes).unwrap_or(scene_spp.clamp(1, MAX_DEFAULT_PASSES)).max(1)).max(1);
+    let pass_spp = match (noise, o.passes) {
+        // A noise target without a sample limit checks the error after every pass of `NOISE_PASS_SPP` samples.
+        (Some(_), None) => prism_core::film::NOISE_PASS_SPP,
+        _ => (scene_spp / o.passes.or(f.passes).unwrap_or(scene_spp.clamp(1, MAX_DEFAULT_PASSES)).max(1)).max(1),
+    };
     res.settings = RenderSettings {
         width,
         height,
@@ -279,6 +290,7 @@ fn resolve_settings(world: &mut World, res: &mut Resources, f: FileSettings) -> 
         adaptive,
         seed: o.seed.or(f.seed).unwrap_or(d.seed),
         time_budget,
+        noise,
         integrator,
         accel: o.accel.or(f.accel).unwrap_or(d.accel),
         exposure: o.exposure.or(f.exposure).unwrap_or(d.exposure),
@@ -291,6 +303,7 @@ fn resolve_settings(world: &mut World, res: &mut Resources, f: FileSettings) -> 
             "spp" => o.spp.is_none(),
             "passes" => o.passes.is_none() && (f.passes.is_some() || o.spp.is_none()),
             "time" => o.time_budget.is_none(),
+            "noise" => o.noise.is_none(),
             "filter" => o.filter.is_none(),
             "exposure" => o.exposure.is_none(),
             _ => false,

@@ -137,6 +137,9 @@ pub struct RenderDesc<'a> {
     /// Time budget in seconds: stop when it is spent (the pass then running is cut short and does not count).
     #[serde(default)]
     pub time: Option<f64>,
+    /// Noise target: stop after the pass at which the estimated relMSE is at most this.
+    #[serde(default)]
+    pub noise: Option<f32>,
     /// PNG exposure in stops.
     #[serde(default)]
     pub exposure: Option<f32>,

@@ -6,7 +6,7 @@
 //! | bytes | field |
 //! |---|---|
 //! | 8 | magic `PRISMFLM` |
-//! | 4 | version (1) |
+//! | 4 | version (2; version 1 files, without the noise halves' flag, are read too) |
 //! | 4 + 4 | width, height |
 //! | 4 + 4 + 8 | passes done (the index of the next pass), passes in the whole render, samples per pixel done |
 //! | 4 + 4 + 1 | shard k, shard n (1 for a whole render), shard axis (0 passes, 1 pixel rows) |
@@ -14,6 +14,8 @@
 //! | 8 | samples that were NaN or infinite |
 //! | 4 + len | integrator spec, UTF-8 (at most 4096 bytes) |
 //! | 56 per pixel | three `i128` fixed-point channel sums (see `fixed.rs`) and a `u64` sample count |
+//! | 1 | 1 when the noise halves follow (a render with a noise target: `noise.rs`), else 0 |
+//! | 16 + 64 per pixel | the halves (`NoiseHalves::to_bytes`) |
 //! | 8 + len | the integrator's state (opaque to the film; e.g. `ppm`'s per-pixel statistics) |
 //! | 8 | FNV-1a 64 checksum of everything before |
 //!
@@ -28,7 +30,7 @@ use crate::settings::MAX_IMAGE_PIXELS;
 use std::path::Path;
 
 const MAGIC: &[u8; 8] = b"PRISMFLM";
-const VERSION: u32 = 1;
+const VERSION: u32 = 2;
 const MAX_SPEC: usize = 4096;
 /// Largest integrator state accepted (bytes).
 pub const MAX_STATE: u64 = 1 << 34;
@@ -77,6 +79,8 @@ pub struct FilmFile {
     /// The integrator's own state, opaque to the film (empty for integrators that keep none), at most
     /// [`MAX_STATE`] bytes.
     pub state: Vec<u8>,
+    /// The noise halves of a render with a noise target.
+    pub noise: Option<super::NoiseHalves>,
 }
 
 /// The FNV-1a 64 checksum a film file ends with, of everything before it.
@@ -116,6 +120,13 @@ pub fn write_film(path: &Path, header: &FilmHeader, film: &Film, state: &[u8]) -
             b.extend_from_slice(&v.to_le_bytes());
         }
         b.extend_from_slice(&c.to_le_bytes());
+    }
+    match film.noise_halves() {
+        Some(h) => {
+            b.push(1);
+            h.to_bytes(&mut b);
+        }
+        None => b.push(0),
     }
     b.extend_from_slice(&(state.len() as u64).to_le_bytes());
     b.extend_from_slice(state);
@@ -167,7 +178,7 @@ pub fn parse_film(bytes: &[u8], path: &Path) -> Result<FilmFile> {
     }
     let mut r = Reader { b: body, at: 8, path };
     let version = r.u32()?;
-    if version != VERSION {
+    if version != VERSION && version != 1 {
         return Err(PrismError::format(
             path,
             format!("film file version {version} is not supported (expected {VERSION})"),
@@ -218,6 +229,7 @@ pub fn parse_film(bytes: &[u8], path: &Path) -> Result<FilmFile> {
         sum.push(s);
         count.push(r.u64()?);
     }
+    let noise = if version >= 2 { read_halves(&mut r, pixels as usize, body.len())? } else { None };
     let state_len = r.u64()?;
     if state_len > MAX_STATE || state_len as usize != body.len() - r.at {
         return Err(PrismError::format(path, "film file's integrator state has the wrong length"));
@@ -237,5 +249,23 @@ pub fn parse_film(bytes: &[u8], path: &Path) -> Result<FilmFile> {
         },
         film: Film::from_parts(width, height, sum, count, nonfinite),
         state,
+        noise,
     })
+}
+
+/// The noise halves' section (after its flag byte), checked: present only when the bytes are there, every sum
+/// finite and non-negative.
+fn read_halves(r: &mut Reader, pixels: usize, body_len: usize) -> Result<Option<super::NoiseHalves>> {
+    match r.take(1)?[0] {
+        0 => return Ok(None),
+        1 => {}
+        f => return Err(PrismError::format(r.path, format!("unknown noise-halves flag {f}"))),
+    }
+    let need = super::NoiseHalves::byte_len(pixels);
+    if body_len - r.at < need + 8 {
+        return Err(PrismError::format(r.path, format!("film file is truncated (needs {need} bytes of noise halves)")));
+    }
+    let h = super::NoiseHalves::from_bytes(r.take(need)?, pixels)
+        .ok_or_else(|| PrismError::format(r.path, "the film's noise halves hold invalid numbers"))?;
+    Ok(Some(h))
 }

@@ -6,13 +6,17 @@
 //! and shown in images (each pixel is then the mean of all its own samples) but never saved, so a saved film always
 //! describes a whole number of passes and resumes exactly. Methods whose estimate is not a mean of samples
 //! (photon mapping) replace the film's content with their estimate, counted as one sample per pixel they cover.
+//! A render with a noise target also keeps the passes in two alternating halves, whose difference estimates the
+//! image's error ([`noise`]).
 
 pub mod file;
 pub mod fixed;
+pub mod noise;
 mod tiles;
 
 pub use file::{FilmFile, FilmHeader, ShardAxis, checksum, parse_film, read_film, write_film};
 pub use fixed::FixedRgb;
+pub use noise::{NOISE_PASS_SPP, NoiseHalves};
 pub use tiles::{PassOutput, TILE_SIZE, Tile, TileSamples, tiles};
 
 use glam::Vec3;
@@ -34,6 +38,9 @@ pub struct Film {
     pub nonfinite: u64,
     /// For a film that covers pixel rows `y % n == k` only (a row shard): `(k, n)`.
     pub rows: Option<(u32, u32)>,
+    /// The committed passes in two alternating halves, for the error estimate of a noise target (`None` without
+    /// one: they double the film's memory).
+    noise: Option<Box<NoiseHalves>>,
 }
 
 impl Film {
@@ -48,12 +55,39 @@ impl Film {
             partial: vec![],
             nonfinite: 0,
             rows: None,
+            noise: None,
         }
     }
 
     /// A film from saved sums and counts (`sum.len() == count.len() == width * height`).
     pub fn from_parts(width: u32, height: u32, sum: Vec<FixedRgb>, count: Vec<u64>, nonfinite: u64) -> Self {
-        Film { width, height, sum, count, partial: vec![], nonfinite, rows: None }
+        Film { width, height, sum, count, partial: vec![], nonfinite, rows: None, noise: None }
+    }
+
+    /// Keep the passes from now on in two halves for [`Film::relative_error`] (`halves`: a resumed film's, else
+    /// empty ones).
+    pub fn track_noise(&mut self, halves: Option<NoiseHalves>) {
+        let pixels = self.sum.len();
+        let halves = halves.filter(|h| h.total.len() == pixels);
+        self.noise = Some(Box::new(halves.unwrap_or_else(|| NoiseHalves::new(pixels))));
+    }
+
+    /// The noise halves, when the film keeps them.
+    pub fn noise_halves(&self) -> Option<&NoiseHalves> {
+        self.noise.as_deref()
+    }
+
+    /// The committed image's estimated relMSE ([`noise`]): `None` without halves or before both have samples
+    /// everywhere.
+    pub fn relative_error(&self) -> Option<f64> {
+        let halves = self.noise.as_deref()?;
+        let mean: Vec<Vec3> = self
+            .sum
+            .iter()
+            .zip(&self.count)
+            .map(|(s, &c)| if c == 0 { Vec3::ZERO } else { (s.to_dvec3() / c as f64).as_vec3() })
+            .collect();
+        halves.relative_error(&mean, &self.count)
     }
 
     /// The committed sums and counts, row-major.
@@ -125,7 +159,12 @@ impl Film {
     pub fn merge(&mut self, out: &PassOutput, complete: bool) {
         self.partial.clear();
         match out {
-            PassOutput::Samples(tiles) if complete => self.add_tiles(tiles),
+            PassOutput::Samples(tiles) if complete => {
+                self.add_tiles(tiles);
+                if let Some(h) = &mut self.noise {
+                    h.add_pass(self.width, tiles);
+                }
+            }
             PassOutput::Samples(tiles) => self.partial = tiles.clone(),
             // An estimate of an unfinished pass is the last complete one's (the integrator keeps it so).
             PassOutput::Estimate { image, .. } => self.set_estimate(image),

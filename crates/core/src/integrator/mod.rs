@@ -77,6 +77,13 @@ pub trait Integrator: Send + Sync {
         false
     }
 
+    /// The image's estimated relMSE from the integrator's own statistics, for noise targets, where the film cannot
+    /// tell (methods whose film holds an estimate, not sums of samples: `Film::relative_error` covers the others).
+    /// `None` by default and before there is an estimate.
+    fn relative_error(&self) -> Option<f64> {
+        None
+    }
+
     /// The state a resumed render needs besides the film (saved in `.prism-film` files); empty by default.
     fn save_state(&self) -> Vec<u8> {
         Vec::new()

@@ -1,5 +1,5 @@
 //! The Accumulate stage: the pass merged into the film, progress reported, checkpoints written, and the decision
-//! whether another pass runs (pass count, time budget, cancellation).
+//! whether another pass runs (pass count, time budget, noise target, cancellation).
 
 use super::ProgressReporter;
 use super::output::write_outputs;
@@ -51,10 +51,23 @@ pub fn accumulate_system(_world: &mut World, res: &mut Resources) -> Result<()> 
     let out_of_passes = p.passes_done >= s.passes;
     let finished_before = p.finished;
     let out_of_time = s.time_budget.is_some_and(|t| elapsed >= t);
+    // The noise target is checked after complete passes only (a pass cut short adds nothing to the film).
+    let mut quiet_enough = false;
+    if let Some(target) = s.noise
+        && complete
+    {
+        let film = res.film.as_ref();
+        let estimate = res.integrator.as_ref().and_then(|i| i.relative_error()).or_else(|| film?.relative_error());
+        p.noise = estimate;
+        quiet_enough = estimate.is_some_and(|e| e <= target as f64);
+        p.noise_met |= quiet_enough;
+    }
+    // A noise target without a sample count or time budget still ends.
+    let out_of_samples = s.spp.is_none() && s.time_budget.is_none() && p.spp_done >= MAX_NOISE_SPP;
     if res.cancel.load(Ordering::Relaxed) {
         p.finished = true;
         p.interrupted = true;
-    } else if out_of_passes || out_of_time || finished_before {
+    } else if out_of_passes || out_of_time || quiet_enough || out_of_samples || finished_before {
         p.finished = true;
     }
     let (passes_done, spp_done, finished) = (p.passes_done, p.spp_done, p.finished);
@@ -75,6 +88,9 @@ pub fn accumulate_system(_world: &mut World, res: &mut Resources) -> Result<()> 
 }
 
 pub(super) struct LastCheckpoint(Instant);
+
+/// Most samples per pixel a render with a noise target and neither a sample count nor a time budget takes.
+pub const MAX_NOISE_SPP: u64 = 1 << 16;
 
 /// Whether a checkpoint is due after a pass: `every` since the last one or, before the first, since the render
 /// started (`since_start`). The first comes one interval into the render, not after its first pass: a render shorter

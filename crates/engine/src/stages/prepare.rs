@@ -42,6 +42,9 @@ pub fn prepare_integrator_system(_world: &mut World, res: &mut Resources) -> Res
     if n > 1 && integrator.shard_axis() == ShardAxis::Rows {
         film.rows = Some((k, n));
     }
+    if res.settings.noise.is_some() {
+        film.track_noise(None);
+    }
     res.film = Some(film);
     if let Some(path) = res.resume.clone() {
         resume(res, &mut *integrator, &path)?;

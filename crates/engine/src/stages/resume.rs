@@ -12,7 +12,8 @@ fn film_header(res: &Resources) -> FilmHeader {
         width: res.settings.width,
         height: res.settings.height,
         passes_done: res.progress.passes_done,
-        passes: res.settings.passes,
+        // A render the noise target ended is complete with the passes it did (so its shards merge).
+        passes: if res.progress.noise_met { res.progress.passes_done } else { res.settings.passes },
         spp_done: res.progress.spp_done,
         shard: res.settings.shard,
         axis,
@@ -60,12 +61,22 @@ pub(super) fn resume(
     integrator.load_state(&f.state).map_err(|e| PrismError::format(path, e.to_string()))?;
     let mut film = f.film;
     film.rows = res.film.as_ref().and_then(|x| x.rows);
+    if res.settings.noise.is_some() {
+        film.track_noise(f.noise);
+    }
     res.film = Some(film);
     res.progress.passes_done = h.passes_done;
     res.progress.spp_done = h.spp_done;
     res.progress.spp_resumed = h.spp_done;
     if h.passes_done >= res.settings.passes {
         res.progress.finished = true;
+    }
+    // A film that already meets the noise target renders no further pass.
+    let noise = integrator.relative_error().or_else(|| res.film.as_ref().and_then(|f| f.relative_error()));
+    res.progress.noise = noise;
+    if res.settings.noise.is_some_and(|t| noise.is_some_and(|e| e <= t as f64)) {
+        res.progress.finished = true;
+        res.progress.noise_met = true;
     }
     Ok(())
 }

@@ -33,6 +33,7 @@ pub struct FileSettings {
     pub adaptive: Option<bool>,
     pub seed: Option<u64>,
     pub time: Option<f64>,
+    pub noise: Option<f32>,
     pub exposure: Option<f32>,
     /// Where the file gives each of them (`render` fields by name, and the camera's `size`), so a bad value found
     /// when the settings are resolved is reported at its `file:line:column`.
@@ -128,6 +129,7 @@ pub fn spawn_scene(
         adaptive: r.adaptive,
         seed: r.seed,
         time: r.time,
+        noise: r.noise,
         exposure: r.exposure,
         positions: setting_positions(text, file),
     })
@@ -135,7 +137,8 @@ pub fn spawn_scene(
 
 /// The positions of the `render` fields and of the camera's `size` in scene text.
 fn setting_positions(text: &str, file: &Path) -> Vec<(&'static str, SourcePos)> {
-    let render = ["integrator", "accel", "grid", "spp", "passes", "sampler", "pattern", "filter", "seed", "time"];
+    let render =
+        ["integrator", "accel", "grid", "spp", "passes", "sampler", "pattern", "filter", "seed", "time", "noise"];
     let fields = render.iter().chain(&["adaptive", "exposure"]).map(|f| ("render", *f)).chain([("camera", "size")]);
     fields
         .filter_map(|(block, field)| {
