@@ -52,3 +52,4 @@ mod scene_overrides;
 mod scenes;
 mod stability;
 mod untrusted_formats;
+mod watch;

@@ -1,4 +1,4 @@
-//! The `prism` command line (clap), per DESIGN section 3: `render`, `compare`, `converge`, `bench`, `convert`,
+//! The `prism` command line (clap), per DESIGN section 3: `render`, `watch`, `compare`, `converge`, `bench`, `convert`,
 //! `tessellate` and `report`, plus `raytracer` and `curve_editor` (6.837 course command lines).
 
 mod bench_cmd;
@@ -11,6 +11,7 @@ mod raytracer_cmd;
 mod render_cmd;
 mod report_cmd;
 mod tessellate_cmd;
+mod watch;
 
 use clap::{Parser, Subcommand};
 use std::path::PathBuf;
@@ -26,6 +27,8 @@ pub struct Cli {
 pub enum Command {
     /// Render a scene (.ron, .obj, .ply, .gltf/.glb, .pbrt or a 6.837 .txt) to PNG, EXR, TGA and/or a film.
     Render(render_cmd::RenderArgs),
+    /// Render progressively into a viewer page on 127.0.0.1, again whenever the scene or a file it reads changes.
+    Watch(watch::WatchArgs),
     /// Error against a reference as the budget grows: CSV and charts, one curve per integrator.
     Converge(converge_cmd::ConvergeArgs),
     /// Benchmark accelerators on scenes: build time, memory, nodes, Mrays/s (table and chart).
@@ -71,6 +74,7 @@ pub(crate) fn print_stdout(text: &str) -> anyhow::Result<()> {
 pub fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Command::Render(args) => render_cmd::run(args),
+        Command::Watch(args) => watch::run(args),
         Command::Converge(args) => converge_cmd::run(args),
         Command::Bench(args) => bench_cmd::run(args),
         Command::Convert(args) => convert_cmd::run(args),

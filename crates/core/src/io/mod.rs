@@ -135,6 +135,12 @@ pub fn write_tga(path: &Path, img: &Image) -> Result<()> {
 /// thread count and timing (with the exr crate's default, unspecified order, blocks land in the order their
 /// compression finishes).
 pub fn write_exr(path: &Path, img: &Image) -> Result<()> {
+    let bytes = exr_bytes(img).map_err(|e| PrismError::format(path, e))?;
+    write_atomic(path, &bytes)
+}
+
+/// The bytes [`write_exr`] writes (for downloads: `prism watch`).
+pub fn exr_bytes(img: &Image) -> std::result::Result<Vec<u8>, String> {
     use exr::prelude::{Encoding, LineOrder, SpecificChannels, WritableImage};
     let w = img.width as usize;
     let channels = SpecificChannels::rgb(|exr::math::Vec2(x, y): exr::math::Vec2<usize>| {
@@ -142,12 +148,12 @@ pub fn write_exr(path: &Path, img: &Image) -> Result<()> {
         (p.x, p.y, p.z)
     });
     let encoding = Encoding { line_order: LineOrder::Increasing, ..Encoding::default() };
-    write_via_temp(path, |tmp| {
-        exr::image::Image::from_encoded_channels((w, img.height as usize), encoding, channels)
-            .write()
-            .to_file(tmp)
-            .map_err(|e| PrismError::format(path, format!("cannot write EXR: {e}")))
-    })
+    let mut out = std::io::Cursor::new(Vec::new());
+    exr::image::Image::from_encoded_channels((w, img.height as usize), encoding, channels)
+        .write()
+        .to_buffered(&mut out)
+        .map_err(|e| format!("cannot write EXR: {e}"))?;
+    Ok(out.into_inner())
 }
 
 /// The sRGB transfer function (IEC 61966-2-1) of a linear value in [0, 1].
@@ -165,6 +171,12 @@ pub fn srgb_to_linear(v: f32) -> f32 {
 /// Write `img` as an 8-bit sRGB PNG (through a temporary file): each channel scaled by `2^exposure`, clamped to
 /// `[0, 1]` (non-finite values to 0), sRGB-encoded and rounded.
 pub fn write_png(path: &Path, img: &Image, exposure: f32) -> Result<()> {
+    let bytes = png_bytes(img, exposure).map_err(|e| PrismError::format(path, e))?;
+    write_atomic(path, &bytes)
+}
+
+/// The bytes [`write_png`] writes (for downloads: `prism watch`).
+pub fn png_bytes(img: &Image, exposure: f32) -> std::result::Result<Vec<u8>, String> {
     let scale = 2f32.powf(exposure);
     let mut buf = Vec::with_capacity(img.pixels.len() * 3);
     for p in &img.pixels {
@@ -173,17 +185,17 @@ pub fn write_png(path: &Path, img: &Image, exposure: f32) -> Result<()> {
             buf.push((linear_to_srgb(v) * 255.0 + 0.5) as u8);
         }
     }
-    write_via_temp(path, |tmp| {
-        image::save_buffer_with_format(
-            tmp,
-            &buf,
-            img.width,
-            img.height,
-            image::ColorType::Rgb8,
-            image::ImageFormat::Png,
-        )
-        .map_err(|e| PrismError::format(path, format!("cannot write PNG: {e}")))
-    })
+    let mut out = std::io::Cursor::new(Vec::new());
+    image::write_buffer_with_format(
+        &mut out,
+        &buf,
+        img.width,
+        img.height,
+        image::ExtendedColorType::Rgb8,
+        image::ImageFormat::Png,
+    )
+    .map_err(|e| format!("cannot write PNG: {e}"))?;
+    Ok(out.into_inner())
 }
 
 /// Decode an image through the image crate after checking the size its header claims against Prism's input cap

@@ -1,0 +1,203 @@
+//! `prism watch SCENE [render flags] [--port N]`: render progressively into a viewer page served on 127.0.0.1, and
+//! start again whenever the scene or a file it reads changes.
+//!
+//! The render loop (this thread): load the scene and set it up (`App::setup`), then run passes, publishing the
+//! image after each (`view.rs`) with the film's noise estimate (`prism_core::film::noise`), until the render's
+//! limits end it (samples, time, noise target, as `prism render`) or a file changes. A change cancels the pass in flight (the watcher raises
+//! the render's cancel flag: `files.rs`); after `DEBOUNCE` without another change the scene is loaded again from
+//! scratch. A scene that fails to load leaves the last good image on the page with the error line over it (and on
+//! the terminal), and the files it read so far stay watched. Outputs are written only when `-o` asks for them, when
+//! a render ends undisturbed: the same bytes `prism render` writes with the same flags.
+//!
+//! Parameters: `--port` (default 8917; 0 picks a free one). The page's address is printed on stderr.
+
+mod files;
+mod server;
+mod view;
+
+use super::render_cmd::{RenderArgs, overrides};
+use clap::Args;
+use prism_core::error::PrismError;
+use prism_engine::{App, SceneSource, Stage};
+use std::path::PathBuf;
+use std::sync::Arc;
+use std::sync::atomic::AtomicBool;
+use std::time::{Duration, Instant};
+use view::{Frame, Shared};
+
+/// How long the files must stay unchanged after a change before the scene is loaded again (editors write a file
+/// in several steps).
+const DEBOUNCE: Duration = Duration::from_millis(30);
+
+#[derive(Args, Debug, Clone)]
+pub struct WatchArgs {
+    #[command(flatten)]
+    pub render: RenderArgs,
+    /// Port of the viewer page on 127.0.0.1 (0 picks a free one).
+    #[arg(long, default_value_t = 8917)]
+    pub port: u16,
+}
+
+pub fn run(args: WatchArgs) -> anyhow::Result<()> {
+    let r = &args.render;
+    if r.shard.is_some() || r.resume.is_some() {
+        return Err(PrismError::invalid("prism watch: --shard and --resume are for `prism render`").into());
+    }
+    if !r.allow_read.is_empty() {
+        prism_core::io::restrict_reads(&r.allow_read)?;
+    }
+    if let Some(t) = r.threads {
+        prism_core::limits::threads(t)?;
+    }
+    let o = overrides(r)?;
+    let shared = Arc::new(Shared::default());
+    shared.update(|v| {
+        v.status = "loading";
+        v.scene = r.scene.display().to_string();
+    });
+    let (srv, addr) = server::bind(args.port)?;
+    eprintln!("prism watch: {} at http://{addr}/ (Ctrl-C stops)", r.scene.display());
+    let s = shared.clone();
+    std::thread::spawn(move || server::serve(srv, s));
+    ctrlc::set_handler(|| std::process::exit(130)).map_err(|e| anyhow::anyhow!("prism watch: {e}"))?;
+    let mut pool = rayon::ThreadPoolBuilder::new();
+    if let Some(n) = r.threads {
+        pool = pool.num_threads(n);
+    }
+    let pool = pool.build().map_err(|e| PrismError::invalid(format!("cannot start the threads: {e}")))?;
+    let mut watcher = files::FileWatcher::new()?;
+    watcher.watch(std::slice::from_ref(&r.scene));
+    let mut since: Option<Instant> = None;
+    pool.install(|| {
+        loop {
+            let restarted = since.take();
+            render_once(r, &o, &shared, &mut watcher, restarted, r.quiet);
+            // Wait for a change, then for the files to settle.
+            let first = loop {
+                if let Some(first) = settled(&watcher.changes) {
+                    break first;
+                }
+                std::thread::sleep(Duration::from_millis(5));
+            };
+            since = Some(first);
+        }
+    })
+}
+
+/// The first change of a burst once `DEBOUNCE` has passed since its last one (taking it); `None` before.
+fn settled(changes: &files::Changes) -> Option<Instant> {
+    let last = changes.last()?;
+    if last.elapsed() < DEBOUNCE {
+        return None;
+    }
+    changes.take().map(|(first, _)| first)
+}
+
+/// Load the scene and render it until its limits or a change end the render.
+fn render_once(
+    args: &RenderArgs,
+    o: &prism_core::settings::Overrides,
+    shared: &Shared,
+    watcher: &mut files::FileWatcher,
+    restarted: Option<Instant>,
+    quiet: bool,
+) {
+    let cancel = Arc::new(AtomicBool::new(false));
+    watcher.changes.set_cancel(cancel.clone());
+    let mut app = App::with(crate::DefaultPlugins);
+    let res = &mut app.resources;
+    res.source = SceneSource::File(args.scene.clone());
+    res.overrides = o.clone();
+    res.outputs = args.output.clone();
+    res.cancel = cancel;
+    shared.update(|v| v.status = "loading");
+    let setup = app.setup();
+    // Watch what this load read (all of it, even when it failed part way).
+    let mut files: Vec<PathBuf> = vec![args.scene.clone()];
+    files.extend(app.resources.inputs.iter().cloned());
+    watcher.watch(&files);
+    if let Err(e) = setup {
+        let line = prism_core::error::printable(&format!("{}", in_scene(&args.scene, e)));
+        eprintln!("error: {line}");
+        shared.update(|v| {
+            v.error = Some(line);
+            v.status = "error";
+        });
+        return;
+    }
+    // The viewer shows the noise estimate whether or not the render has a target.
+    if let Some(f) = app.resources.film.as_mut()
+        && f.noise_halves().is_none()
+    {
+        f.track_noise(None);
+    }
+    shared.update(|v| {
+        v.error = None;
+        v.status = "rendering";
+    });
+    let mut first_pass = true;
+    while !app.resources.progress.finished {
+        let step = app.run_stage(Stage::Render).and_then(|()| app.run_stage(Stage::Accumulate));
+        if let Err(e) = step {
+            let line = prism_core::error::printable(&e.to_string());
+            eprintln!("error: {line}");
+            shared.update(|v| {
+                v.error = Some(line);
+                v.status = "error";
+            });
+            return;
+        }
+        let p = &app.resources.progress;
+        if p.interrupted {
+            return;
+        }
+        publish(&app, shared);
+        if first_pass {
+            first_pass = false;
+            if let Some(t) = restarted
+                && !quiet
+            {
+                eprintln!("prism watch: reloaded; first pass {:.3} s after the change", t.elapsed().as_secs_f64());
+            }
+        }
+    }
+    if !app.resources.outputs.is_empty()
+        && let Err(e) = app.run_stage(Stage::Output)
+    {
+        eprintln!("error: {}", prism_core::error::printable(&e.to_string()));
+    }
+    shared.update(|v| v.status = "done");
+    if !quiet {
+        let p = &app.resources.progress;
+        eprintln!("prism watch: done, {} spp in {:.3} s", p.spp_done, p.elapsed.as_secs_f64());
+    }
+}
+
+/// An error raised after Load names an entity but not the file: prefix the scene file's name.
+fn in_scene(scene: &std::path::Path, e: PrismError) -> PrismError {
+    match e {
+        PrismError::Scene { context, message } if !context.contains(&scene.display().to_string()) => {
+            PrismError::Scene { context: format!("{}: {context}", scene.display()), message }
+        }
+        other => other,
+    }
+}
+
+/// The film after a pass, to the viewer.
+fn publish(app: &App, shared: &Shared) {
+    let res = &app.resources;
+    let Some(film) = res.film.as_ref() else { return };
+    let image = film.image();
+    let frame = Frame {
+        width: film.width,
+        height: film.height,
+        rgb: image.iter().flat_map(|p| [p.x, p.y, p.z]).collect(),
+        counts: film.parts().1.iter().map(|&c| c.min(u32::MAX as u64) as u32).collect(),
+        pass: res.progress.passes_done,
+        spp: res.progress.spp_done,
+        seconds: res.progress.elapsed.as_secs_f64(),
+        noise: res.progress.noise.or_else(|| film.relative_error()),
+        exposure: res.settings.exposure,
+    };
+    shared.update(|v| v.frame = Some(Arc::new(frame)));
+}
