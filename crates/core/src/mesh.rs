@@ -103,6 +103,12 @@ impl MeshStore {
         MeshHandle(self.meshes.len() as u32 - 1)
     }
 
+    /// Store a mesh shared with others (a reload cache's) and return its handle.
+    pub fn add_shared(&mut self, mesh: Arc<MeshData>) -> MeshHandle {
+        self.meshes.push(mesh);
+        MeshHandle(self.meshes.len() as u32 - 1)
+    }
+
     /// The mesh of handle `h` (a handle of this store; panics otherwise).
     pub fn get(&self, h: MeshHandle) -> &MeshData {
         &self.meshes[h.0 as usize]

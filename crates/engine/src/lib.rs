@@ -18,6 +18,7 @@
 pub mod components;
 mod core_plugin;
 mod plugin;
+pub mod reload_cache;
 mod resources;
 mod schedule;
 pub mod stages;

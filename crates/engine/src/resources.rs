@@ -139,6 +139,11 @@ impl Resources {
         self.plugin_state.get(&TypeId::of::<T>()).and_then(|b| b.downcast_ref())
     }
 
+    /// Take the plugin state of type `T` out, if one was inserted.
+    pub fn remove<T: Any + Send + Sync>(&mut self) -> Option<T> {
+        self.plugin_state.remove(&TypeId::of::<T>()).and_then(|b| b.downcast().ok()).map(|b| *b)
+    }
+
     /// The plugin state of type `T`, mutably, if one was inserted.
     pub fn get_mut<T: Any + Send + Sync>(&mut self) -> Option<&mut T> {
         self.plugin_state.get_mut(&TypeId::of::<T>()).and_then(|b| b.downcast_mut())

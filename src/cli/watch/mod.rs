@@ -1,13 +1,17 @@
 //! `prism watch SCENE [render flags] [--port N]`: render progressively into a viewer page served on 127.0.0.1, and
 //! start again whenever the scene or a file it reads changes.
 //!
-//! The render loop (this thread): load the scene and set it up (`App::setup`), then run passes, publishing the
-//! image after each (`view.rs`) with the film's noise estimate (`prism_core::film::noise`), until the render's
-//! limits end it (samples, time, noise target, as `prism render`) or a file changes. A change cancels the pass in flight (the watcher raises
-//! the render's cancel flag: `files.rs`); after `DEBOUNCE` without another change the scene is loaded again from
-//! scratch. A scene that fails to load leaves the last good image on the page with the error line over it (and on
-//! the terminal), and the files it read so far stay watched. Outputs are written only when `-o` asks for them, when
-//! a render ends undisturbed: the same bytes `prism render` writes with the same flags.
+//! The render loop (this thread): load the scene and set it up, then run passes, publishing the image after each
+//! (`view.rs`) with the film's noise estimate (`prism_core::film::noise`), until the render's limits end it
+//! (samples, time, noise target, as `prism render`) or a file changes. A change cancels the pass in flight (the
+//! watcher raises the render's cancel flag: `files.rs`); after `DEBOUNCE` without another change the scene is
+//! loaded again from scratch but for what `prism_engine::reload_cache` keeps: mesh files that did not change are
+//! not read again, and the accelerator is not built again when the world-space geometry is the same (a camera,
+//! material or light edit). Passes hold 4 samples unless `--passes` says otherwise, for a first image soon after
+//! the save (the image does not depend on the passes). A scene that fails to load leaves the last good image on the
+//! page with the error line over it (and on the terminal), and the files it read so far stay watched. Outputs are
+//! written only when `-o` asks for them, when a render ends undisturbed: the same bytes `prism render` writes with
+//! the same flags.
 //!
 //! Parameters: `--port` (default 8917; 0 picks a free one). The page's address is printed on stderr.
 
@@ -18,6 +22,7 @@ mod view;
 use super::render_cmd::{RenderArgs, overrides};
 use clap::Args;
 use prism_core::error::PrismError;
+use prism_engine::reload_cache::ReloadCache;
 use prism_engine::{App, SceneSource, Stage};
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -28,6 +33,9 @@ use view::{Frame, Shared};
 /// How long the files must stay unchanged after a change before the scene is loaded again (editors write a file
 /// in several steps).
 const DEBOUNCE: Duration = Duration::from_millis(30);
+
+/// Samples per pixel of a watch render's passes when `--passes` is not given.
+const WATCH_PASS_SPP: u32 = 4;
 
 #[derive(Args, Debug, Clone)]
 pub struct WatchArgs {
@@ -68,10 +76,11 @@ pub fn run(args: WatchArgs) -> anyhow::Result<()> {
     let mut watcher = files::FileWatcher::new()?;
     watcher.watch(std::slice::from_ref(&r.scene));
     let mut since: Option<Instant> = None;
+    let mut cache = ReloadCache::default();
     pool.install(|| {
         loop {
             let restarted = since.take();
-            render_once(r, &o, &shared, &mut watcher, restarted, r.quiet);
+            cache = render_once(r, &o, &shared, &mut watcher, cache, restarted);
             // Wait for a change, then for the files to settle.
             let first = loop {
                 if let Some(first) = settled(&watcher.changes) {
@@ -93,25 +102,53 @@ fn settled(changes: &files::Changes) -> Option<Instant> {
     changes.take().map(|(first, _)| first)
 }
 
-/// Load the scene and render it until its limits or a change end the render.
+/// Load the scene and render it until its limits or a change end the render; what the next load can reuse.
 fn render_once(
     args: &RenderArgs,
     o: &prism_core::settings::Overrides,
     shared: &Shared,
     watcher: &mut files::FileWatcher,
+    cache: ReloadCache,
     restarted: Option<Instant>,
-    quiet: bool,
-) {
+) -> ReloadCache {
+    let mut app = App::with(crate::DefaultPlugins);
+    app.resources.insert(cache);
+    let loaded = render_app(&mut app, args, o, shared, watcher, restarted);
+    let accel = app.resources.scene.take().map(|s| s.accel);
+    let mut cache = app.resources.remove::<ReloadCache>().unwrap_or_default();
+    cache.finish(accel, loaded);
+    cache
+}
+
+/// [`render_once`] with the app made: false when the scene did not load.
+fn render_app(
+    app: &mut App,
+    args: &RenderArgs,
+    o: &prism_core::settings::Overrides,
+    shared: &Shared,
+    watcher: &mut files::FileWatcher,
+    restarted: Option<Instant>,
+) -> bool {
+    let quiet = args.quiet;
+    let hits = |app: &App| app.resources.get::<ReloadCache>().map(|c| c.hits).unwrap_or_default();
+    let before = hits(app);
     let cancel = Arc::new(AtomicBool::new(false));
     watcher.changes.set_cancel(cancel.clone());
-    let mut app = App::with(crate::DefaultPlugins);
     let res = &mut app.resources;
     res.source = SceneSource::File(args.scene.clone());
     res.overrides = o.clone();
     res.outputs = args.output.clone();
     res.cancel = cancel;
     shared.update(|v| v.status = "loading");
-    let setup = app.setup();
+    let setup = app.run_stage(Stage::Load).and_then(|()| {
+        // Small passes, for a first image soon after a save: the image does not depend on how the samples are
+        // split into passes (adaptive sampling's pilot excepted).
+        let s = &mut app.resources.settings;
+        if let (None, Some(spp), false) = (o.passes, s.spp, s.adaptive) {
+            s.passes = s.passes.max(spp / WATCH_PASS_SPP).max(1);
+        }
+        [Stage::Propagate, Stage::BuildAccel, Stage::Prepare].into_iter().try_for_each(|st| app.run_stage(st))
+    });
     // Watch what this load read (all of it, even when it failed part way).
     let mut files: Vec<PathBuf> = vec![args.scene.clone()];
     files.extend(app.resources.inputs.iter().cloned());
@@ -123,7 +160,7 @@ fn render_once(
             v.error = Some(line);
             v.status = "error";
         });
-        return;
+        return false;
     }
     // The viewer shows the noise estimate whether or not the render has a target.
     if let Some(f) = app.resources.film.as_mut()
@@ -145,19 +182,25 @@ fn render_once(
                 v.error = Some(line);
                 v.status = "error";
             });
-            return;
+            return true;
         }
         let p = &app.resources.progress;
         if p.interrupted {
-            return;
+            return true;
         }
-        publish(&app, shared);
+        publish(app, shared);
         if first_pass {
             first_pass = false;
             if let Some(t) = restarted
                 && !quiet
             {
-                eprintln!("prism watch: reloaded; first pass {:.3} s after the change", t.elapsed().as_secs_f64());
+                let now = hits(app);
+                eprintln!(
+                    "prism watch: reloaded; first pass {:.3} s after the change (mesh files reused: {}, accelerator {})",
+                    t.elapsed().as_secs_f64(),
+                    now.mesh_files - before.mesh_files,
+                    if now.accels > before.accels { "reused" } else { "built" }
+                );
             }
         }
     }
@@ -171,6 +214,7 @@ fn render_once(
         let p = &app.resources.progress;
         eprintln!("prism watch: done, {} spp in {:.3} s", p.spp_done, p.elapsed.as_secs_f64());
     }
+    true
 }
 
 /// An error raised after Load names an entity but not the file: prefix the scene file's name.

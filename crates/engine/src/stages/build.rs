@@ -34,7 +34,16 @@ pub fn build_scene_system(world: &mut World, res: &mut Resources) -> Result<()> 
     let st = &res.settings;
     let samples = st.spp.map(|spp| st.width as u64 * st.height as u64 * spp as u64);
     let splits = prism_core::accel::SpatialSplits::for_samples(samples, prims.num_bounded() as u64);
-    let accel = Accel::build_with(st.accel, &prims, splits)?;
+    let kind = st.accel;
+    // A process that loads the scene again (`prism watch`) reuses the last accelerator over the same geometry.
+    let cached = res.get_mut::<crate::reload_cache::ReloadCache>().map(|c| {
+        let key = crate::reload_cache::geometry_key(&prims, &format!("{kind:?} {splits:?}"));
+        c.take_accel(key)
+    });
+    let accel = match cached {
+        Some(Some(accel)) => accel,
+        _ => Accel::build_with(kind, &prims, splits)?,
+    };
     res.insert(Emitters(emitters));
     res.scene = Some(Scene {
         camera,

@@ -10,6 +10,7 @@ use prism_core::error::{PrismError, Result};
 use prism_core::material::Material;
 use prism_core::mesh::MeshData;
 use prism_engine::components::Shape;
+use prism_engine::reload_cache::{LoadedMeshes, MeshFileKey, ReloadCache};
 use std::path::Path;
 
 impl Spawner<'_> {
@@ -138,55 +139,66 @@ impl Spawner<'_> {
         }
         self.res.inputs.push(path.to_path_buf());
         let key = path.to_path_buf();
-        if ext == "ply" {
-            // One mesh, no materials: loaded once per (file, flat, reverse) and shared by every entity using it.
-            if let Some(p) = self.part_cache.get(&(key.clone(), flat, reverse)) {
-                return Ok(ShapeOut::One(p[0].shape.clone()));
+        if let Some(p) = self.part_cache.get(&(key.clone(), flat, reverse)) {
+            // Referenced before: share the meshes and materials.
+            let p = p.clone();
+            return Ok(if ext == "ply" { ShapeOut::One(p[0].shape.clone()) } else { parts_out(p) });
+        }
+        // A process that loads the scene again (`prism watch`) keeps the file's meshes while the file is unchanged.
+        let cache_key = self.res.get::<ReloadCache>().and_then(|_| MeshFileKey::of(path, flat, reverse));
+        let cached = cache_key.as_ref().and_then(|k| self.res.get_mut::<ReloadCache>()?.mesh_file(k));
+        let loaded = match cached {
+            Some(l) => l,
+            None => {
+                let loaded = self.read_mesh_file(path, &ext, flat, reverse)?;
+                if let (Some(k), Some(c)) = (cache_key, self.res.get_mut::<ReloadCache>()) {
+                    c.keep_mesh_file(k, loaded.clone());
+                }
+                loaded
             }
-            let mut mesh = crate::ply::load_ply(path)?;
+        };
+        let mut out = Vec::with_capacity(loaded.len());
+        for (mesh, mtl, emission) in loaded {
+            let material = mtl.map(|m| {
+                let k = (key.clone(), m.name.clone());
+                *self.mtl_ids.entry(k).or_insert_with(|| {
+                    self.res.materials.push(Material { name: format!("{}:{}", path.display(), m.name), ..m });
+                    self.res.materials.len() as u32 - 1
+                })
+            });
+            let name = mesh.name.clone();
+            let h = self.res.meshes.add_shared(mesh);
+            out.push(MeshPart { name, shape: Shape::Mesh(h), material, emission });
+        }
+        self.part_cache.insert((key, flat, reverse), out.clone());
+        Ok(if ext == "ply" { ShapeOut::One(out.remove(0).shape) } else { parts_out(out) })
+    }
+
+    /// Read a PLY (one mesh) or OBJ file (its models with their MTL materials), with the shading normals dropped
+    /// (`flat`) or the winding reversed as asked.
+    fn read_mesh_file(&self, path: &Path, ext: &str, flat: bool, reverse: bool) -> Result<LoadedMeshes> {
+        let adjust = |mut mesh: prism_core::mesh::MeshData| {
             if flat {
                 mesh.normals.clear();
             }
             if reverse {
                 crate::inline_mesh::reverse_winding(&mut mesh);
             }
-            let shape = Shape::Mesh(self.res.meshes.add(mesh));
-            let part = MeshPart { name: String::new(), shape: shape.clone(), material: None, emission: None };
-            self.part_cache.insert((key, flat, reverse), vec![part]);
-            return Ok(ShapeOut::One(shape));
-        }
-        let parts = if let Some(p) = self.part_cache.get(&(key.clone(), flat, reverse)) {
-            // Referenced before: share the meshes and materials.
-            p.clone()
-        } else {
-            let loaded = load_obj(path)?;
-            let mut out = Vec::with_capacity(loaded.len());
-            for mut part in loaded {
-                if flat {
-                    part.mesh.normals.clear();
-                }
-                if reverse {
-                    crate::inline_mesh::reverse_winding(&mut part.mesh);
-                }
-                let material = part.material.map(|m| {
-                    let k = (key.clone(), m.name.clone());
-                    *self.mtl_ids.entry(k).or_insert_with(|| {
-                        self.res.materials.push(Material { name: format!("{}:{}", path.display(), m.name), ..m });
-                        self.res.materials.len() as u32 - 1
-                    })
-                });
-                let name = part.mesh.name.clone();
-                let h = self.res.meshes.add(part.mesh);
-                out.push(MeshPart { name, shape: Shape::Mesh(h), material, emission: part.emission });
-            }
-            self.part_cache.insert((key.clone(), flat, reverse), out.clone());
-            out
+            std::sync::Arc::new(mesh)
         };
-        if parts.len() == 1 && parts[0].emission.is_none() && parts[0].material.is_none() {
-            return Ok(ShapeOut::One(parts[0].shape.clone()));
+        if ext == "ply" {
+            return Ok(vec![(adjust(crate::ply::load_ply(path)?), None, None)]);
         }
-        Ok(ShapeOut::Parts(parts))
+        Ok(load_obj(path)?.into_iter().map(|p| (adjust(p.mesh), p.material, p.emission)).collect())
     }
+}
+
+/// A mesh file's parts as a shape: one shape when it is a single part without material or emission.
+fn parts_out(parts: Vec<MeshPart>) -> ShapeOut {
+    if parts.len() == 1 && parts[0].emission.is_none() && parts[0].material.is_none() {
+        return ShapeOut::One(parts[0].shape.clone());
+    }
+    ShapeOut::Parts(parts)
 }
 
 /// One material group of a mesh file: its own entity with the group's material (and emission).
