@@ -130,3 +130,19 @@ fn reloads_reuse_unchanged_meshes_and_the_accelerator_and_render_the_same_image(
     assert_eq!(cache.hits, CacheHits { mesh_files: 2, accels: 1 });
     assert!(c.pixels == fresh().pixels);
 }
+
+#[test]
+fn a_pbrt_scenes_included_files_are_among_its_inputs_so_watch_follows_them() {
+    let dir = scratch("pbrt_inputs");
+    std::fs::write(dir.join("geometry.pbrt"), "Shape \"sphere\" \"float radius\" [1]\n").unwrap();
+    let main = dir.join("main.pbrt");
+    std::fs::write(
+        &main,
+        "LookAt 0 0 5  0 0 0  0 1 0\nCamera \"perspective\" \"float fov\" [40]\nFilm \"rgb\" \"integer xresolution\" [8] \"integer yresolution\" [8]\nWorldBegin\nLightSource \"infinite\"\nInclude \"geometry.pbrt\"\n",
+    )
+    .unwrap();
+    let mut app = crate::common::app_from_file(&main, prism::settings::Overrides::default());
+    app.setup().unwrap();
+    let inputs: Vec<String> = app.resources.inputs.iter().map(|p| p.display().to_string()).collect();
+    assert!(inputs.iter().any(|p| p.ends_with("geometry.pbrt")), "inputs: {inputs:?}");
+}

@@ -93,6 +93,7 @@ fn load_file(path: &Path, world: &mut World, res: &mut Resources) -> Result<File
             // A pbrt scene: spawned through its RON equivalent (what `prism convert` writes).
             let base = path.parent().unwrap_or(Path::new("."));
             let converted = pbrt::convert_file(path, base)?;
+            res.inputs.extend(converted.files.iter().cloned());
             for w in &converted.warnings {
                 eprintln!("warning: {w}");
             }

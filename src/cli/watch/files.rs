@@ -89,6 +89,14 @@ impl FileWatcher {
         Ok(FileWatcher { watcher, dirs: BTreeSet::new(), changes })
     }
 
+    /// Watch `files` as well as those watched already (after a load that failed part way, whose list is short).
+    pub fn watch_more(&mut self, files: &[PathBuf]) {
+        let mut all: Vec<PathBuf> =
+            self.changes.files.lock().unwrap_or_else(|e| e.into_inner()).iter().cloned().collect();
+        all.extend(files.iter().cloned());
+        self.watch(&all);
+    }
+
     /// Watch exactly `files` from now on (their directories; files that do not exist are watched for creation).
     pub fn watch(&mut self, files: &[PathBuf]) {
         let files: BTreeSet<PathBuf> = files.iter().filter_map(|f| canonical(f)).collect();

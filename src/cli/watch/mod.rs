@@ -149,10 +149,14 @@ fn render_app(
         }
         [Stage::Propagate, Stage::BuildAccel, Stage::Prepare].into_iter().try_for_each(|st| app.run_stage(st))
     });
-    // Watch what this load read (all of it, even when it failed part way).
+    // Watch what this load read; after a failure, also what the last loads read (the failed one stopped part way).
     let mut files: Vec<PathBuf> = vec![args.scene.clone()];
     files.extend(app.resources.inputs.iter().cloned());
-    watcher.watch(&files);
+    if setup.is_ok() {
+        watcher.watch(&files);
+    } else {
+        watcher.watch_more(&files);
+    }
     if let Err(e) = setup {
         let line = prism_core::error::printable(&format!("{}", in_scene(&args.scene, e)));
         eprintln!("error: {line}");

@@ -113,6 +113,8 @@ pub struct Converter {
     include_depth: usize,
     /// Files included so far (every `Include` and `Import`, nested ones too).
     includes: usize,
+    /// Every file read besides the main one (included files, spectra), for the scene's inputs.
+    pub files_read: std::cell::RefCell<Vec<std::path::PathBuf>>,
     /// Bytes of object descriptions copied by `ObjectInstance` so far.
     instanced_bytes: usize,
 }
@@ -146,6 +148,7 @@ impl Converter {
             counter: 0,
             include_depth: 0,
             includes: 0,
+            files_read: Default::default(),
             instanced_bytes: 0,
         };
         c.materials.insert("default".into(), "Lambert(albedo: 0.5)".into());
@@ -195,6 +198,7 @@ impl Converter {
                 std::io::Error::new(std::io::ErrorKind::NotFound, format!("{what} not read")),
             ));
         }
+        self.files_read.borrow_mut().push(path.to_path_buf());
         prism_core::io::read_regular_text(path, what)
     }
 

@@ -44,6 +44,8 @@ pub enum Version {
 #[derive(Clone, Debug)]
 pub struct Converted {
     pub ron: String,
+    /// The files read besides the main one (included files, spectra).
+    pub files: Vec<std::path::PathBuf>,
     pub warnings: Vec<String>,
     pub version: Version,
 }
@@ -119,5 +121,6 @@ pub fn convert_text(text: &str, path: &Path, search_dir: Option<&Path>, ron_dir:
     }
     let ron = c.to_ron();
     let name = path.display().to_string();
-    Ok(Converted { ron, warnings: c.warnings.iter().map(|w| format!("{name}: {w}")).collect(), version })
+    let files = c.files_read.take();
+    Ok(Converted { ron, files, warnings: c.warnings.iter().map(|w| format!("{name}: {w}")).collect(), version })
 }
