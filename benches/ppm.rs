@@ -57,6 +57,7 @@ fn eye_pass(s: &Setup) -> EyePass<'_> {
         settings: &s.settings,
         sampler: s.settings.sampler,
         max_segments: 256,
+        eye_segments: 256,
         direct_lighting: true,
         pixel_centre: false,
         trace_glossy: true,

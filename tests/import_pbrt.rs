@@ -37,11 +37,11 @@ fn integrator(d: &SceneDesc) -> String {
 #[test]
 fn the_caustic_glass_files_convert_with_the_integrator_iterations_and_crop_they_ask_for() {
     let cases = [
-        ("f16-9a.pbrt", "ppm(radius: 0.025, max_depth: 6)", 10, (700, 1000)),
-        ("f16-9b.pbrt", "ppm(radius: 0.075, max_depth: 6)", 100, (700, 1000)),
-        ("f16-9c.pbrt", "ppm(radius: 0.075, max_depth: 6)", 10000, (700, 1000)),
-        ("f16-11a.pbrt", "ppm(radius: 0.075, photons: 100000, max_depth: 6)", 500, (560, 600)),
-        ("f16-11b.pbrt", "ppm(radius: 0.075, photons: 5000000, max_depth: 6)", 10, (560, 600)),
+        ("f16-9a.pbrt", "ppm(radius: 0.025, eye_depth: 5, photon_depth: 5)", 10, (700, 1000)),
+        ("f16-9b.pbrt", "ppm(radius: 0.075, eye_depth: 5, photon_depth: 5)", 100, (700, 1000)),
+        ("f16-9c.pbrt", "ppm(radius: 0.075, eye_depth: 5, photon_depth: 5)", 10000, (700, 1000)),
+        ("f16-11a.pbrt", "ppm(radius: 0.075, photons: 100000, eye_depth: 5, photon_depth: 5)", 500, (560, 600)),
+        ("f16-11b.pbrt", "ppm(radius: 0.075, photons: 5000000, eye_depth: 5, photon_depth: 5)", 10, (560, 600)),
         // bdpt with maxdepth 20 (bounces) is path tracing with 21 segments.
         ("glass.pbrt", "envlight(max_depth: 21)", 8192, (1050, 1500)),
     ];

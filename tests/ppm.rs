@@ -393,3 +393,27 @@ fn bad_ppm_parameters_are_one_line_errors_naming_the_parameter() {
         assert!(err.contains(needle) && !err.contains('\n'), "{spec}: {err}");
     }
 }
+
+/// pbrt's SPPM limits eye and photon paths separately. In the diffuse Cornell box every visible point is the
+/// first hit (eye part: 1 segment), so `photon_depth: 2` (photons stored at their second vertex at most) keeps the
+/// paths of up to 3 segments whatever `eye_depth` allows: the image converges to `envlight(max_depth: 3)`'s, and
+/// `eye_depth: 1, photon_depth: 1` (no photon stored) is `ppm(max_depth: 2)`, direct light alone, bit for bit.
+#[test]
+fn eye_and_photon_depths_limit_their_own_parts_of_a_path() {
+    let o = |integrator: &str, spp: u32| Overrides {
+        size: Some((48, 48)),
+        spp: Some(spp),
+        integrator: Some(integrator.into()),
+        ..Default::default()
+    };
+    let scene = scene_path("cornell_box.ron");
+    let separate = render_file(&scene, o("ppm(max_depth: -1, eye_depth: 5, photon_depth: 2)", 128));
+    let reference = render_file(&scene, o("envlight(max_depth: 3)", 512));
+    let (a, b) = (separate.mean(), reference.mean());
+    assert!(((a - b) / b).abs().max_element() < 0.02, "ppm with photon_depth 2: {a}, envlight max_depth 3: {b}");
+    let direct = render_file(&scene, o("ppm(max_depth: -1, eye_depth: 1, photon_depth: 1)", 8));
+    let total = render_file(&scene, o("ppm(max_depth: 2)", 8));
+    assert!(direct.pixels == total.pixels, "eye_depth 1 and photon_depth 1 are direct light alone");
+    let err = crate::common::prism(&["render", scene.to_str().unwrap(), "--integrator", "ppm(photon_depth: 0)"]);
+    assert!(String::from_utf8_lossy(&err.stderr).contains("photon_depth must be"), "photon_depth 0 is an error");
+}

@@ -4,7 +4,7 @@
 //! Jensen 2009) by default, or the original fixed-visible-point method.
 //!
 //! ```text
-//! --integrator "ppm(alpha: 0.7, radius: None, radius_pixels: 3, photons: None, max_depth: -1, mode: stochastic, lookup: hash_grid, glossy: trace)"
+//! --integrator "ppm(alpha: 0.7, radius: None, radius_pixels: 3, photons: None, max_depth: -1, eye_depth: -1, photon_depth: -1, mode: stochastic, lookup: hash_grid, glossy: trace)"
 //! ```
 //!
 //! ## What it computes
@@ -47,6 +47,8 @@
 //! | `radius_pixels` | 3 | the default radius in pixel footprints (positive) |
 //! | `photons` | `None` | photons per iteration; default the image's pixel count; 1 to 2^24 |
 //! | `max_depth` | -1 | the longest light path in segments, counted as `envlight` counts them (-1 unlimited): a photon deposited at its vertex v reaching a visible point after e specular eye vertices makes `e + v + 2` segments, so `ppm` and `envlight` render the same image for the same `max_depth` |
+//! | `eye_depth` | -1 | the longest eye path to a visible point (or to emission it sees) in segments, on top of `max_depth`; -1 no limit of its own |
+//! | `photon_depth` | -1 | the longest photon path to a stored photon in segments, on top of `max_depth`; -1 no limit of its own. pbrt's SPPM limits the two separately (`maxdepth` each): an imported `sppm` scene renders with `max_depth: -1, eye_depth: maxdepth, photon_depth: maxdepth` |
 //! | `mode` | `stochastic` | `stochastic` or `fixed` |
 //! | `lookup` | `hash_grid` | `hash_grid` or `kdtree` (the balanced photon map, on the same photons) |
 //! | `glossy` | `trace` | `trace`: eye paths go on through glossy surfaces and photons are not stored on them; `gather`: visible points on them, which blurs what they reflect and blackens rough glass. Fixed mode always gathers |
@@ -231,7 +233,7 @@ impl Ppm {
             seed: settings.seed,
             iteration: k,
             photons: self.photons_per_iteration,
-            max_vertices: self.params.segments().saturating_sub(1),
+            max_vertices: self.params.photon_vertices(),
             first_deposit: if fixed { 0 } else { 1 },
             store_on_glossy: !self.params.traces_glossy(),
         };
@@ -255,6 +257,7 @@ impl Ppm {
                 settings,
                 sampler: settings.sampler,
                 max_segments: self.params.segments(),
+                eye_segments: self.params.eye_segments(),
                 direct_lighting: !fixed,
                 pixel_centre: fixed,
                 trace_glossy: self.params.traces_glossy(),

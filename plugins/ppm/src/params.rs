@@ -58,6 +58,12 @@ pub struct PpmParams {
     /// Longest light path in segments, as Mitsuba and `envlight` count them (the camera ray is segment 1):
     /// -1 unlimited, 1 emitters only, 2 direct light only.
     pub max_depth: i32,
+    /// Longest eye path to a visible point in segments (the camera ray is segment 1), on top of `max_depth`; -1: no
+    /// limit of its own. pbrt's SPPM limits eye and photon paths separately (`maxdepth` each).
+    pub eye_depth: i32,
+    /// Longest photon path to a stored photon in segments (the emitted ray is segment 1), on top of `max_depth`; -1:
+    /// no limit of its own.
+    pub photon_depth: i32,
     pub mode: PpmMode,
     pub lookup: PhotonLookup,
     /// Glossy surfaces in the eye pass (stochastic mode; fixed mode always gathers on the first smooth surface).
@@ -72,6 +78,8 @@ impl Default for PpmParams {
             radius_pixels: 3.0,
             photons: None,
             max_depth: -1,
+            eye_depth: -1,
+            photon_depth: -1,
             mode: PpmMode::Stochastic,
             lookup: PhotonLookup::HashGrid,
             glossy: GlossyEye::Trace,
@@ -87,6 +95,19 @@ impl PpmParams {
     /// Most path segments, with the unlimited case capped.
     pub fn segments(&self) -> u32 {
         if self.max_depth < 0 { DEPTH_CAP } else { (self.max_depth as u32).min(DEPTH_CAP) }
+    }
+
+    /// Most eye path segments to a visible point (`eye_depth`, capped, and never more than `segments`).
+    pub fn eye_segments(&self) -> u32 {
+        let own = if self.eye_depth < 0 { DEPTH_CAP } else { (self.eye_depth as u32).min(DEPTH_CAP) };
+        own.min(self.segments())
+    }
+
+    /// Most vertices a photon path follows: `photon_depth` segments (capped), and room in `segments` for the
+    /// segment from the visible point to the camera.
+    pub fn photon_vertices(&self) -> u32 {
+        let own = if self.photon_depth < 0 { DEPTH_CAP } else { (self.photon_depth as u32).min(DEPTH_CAP) };
+        own.min(self.segments().saturating_sub(1))
     }
 
     /// Whether eye paths trace on through glossy surfaces (stochastic mode with `glossy: trace`).
@@ -121,11 +142,12 @@ impl PpmParams {
                 )));
             }
         }
-        if self.max_depth == 0 || self.max_depth < -1 {
-            return Err(PrismError::invalid(format!(
-                "ppm: max_depth must be -1 (unlimited) or at least 1, got {}",
-                self.max_depth
-            )));
+        for (name, v) in
+            [("max_depth", self.max_depth), ("eye_depth", self.eye_depth), ("photon_depth", self.photon_depth)]
+        {
+            if v == 0 || v < -1 {
+                return Err(PrismError::invalid(format!("ppm: {name} must be -1 (unlimited) or at least 1, got {v}")));
+            }
         }
         Ok(())
     }

@@ -58,6 +58,8 @@ pub struct EyePass<'a> {
     pub sampler: SamplerKind,
     /// Most path segments (`PpmParams::segments`).
     pub max_segments: u32,
+    /// Most eye path segments to a visible point or an emitter (`PpmParams::eye_segments`, at most `max_segments`).
+    pub eye_segments: u32,
     /// Estimate direct light at the visible point (stochastic mode); fixed mode gets it from photons.
     pub direct_lighting: bool,
     /// Trace the pixel centre (fixed mode's single eye pass) instead of a filtered, jittered position.
@@ -100,7 +102,7 @@ impl EyePass<'_> {
         let mut glossy: Option<GlossyVertex> = None;
         // Product of eta^2 over the refractions so far (Russian roulette undoes the radiance scaling).
         let mut eta2 = 1.0f32;
-        for depth in 0..self.max_segments {
+        for depth in 0..self.eye_segments.min(self.max_segments) {
             let Some(hit) = scene.trace(&ray) else {
                 let w = match (&glossy, &scene.lights.environment) {
                     (Some(g), Some(_)) => power_heuristic(g.pdf, self.lights.pdf_li_env(&scene.lights, g.n, ray.dir)),

@@ -10,7 +10,7 @@
 //! | `cropwindow [x0 x1 y0 y1]`, `pixelbounds` | `crop` (the window rounded to pbrt's pixel bounds), `size` its pixels |
 //! | v3 `scale`, v4 `iso` x `exposuretime` / 100 | `exposure: log2(...)` (PNG only; EXR stays linear) |
 //! | `Sampler "*" pixelsamples` (16) | `spp` |
-//! | `Integrator "sppm"` `numiterations` (64), `radius` (1), `photonsperiteration` (-1: pixel count), `maxdepth` (5) | `ppm(radius, photons, max_depth: maxdepth + 1)`, `spp: numiterations` |
+//! | `Integrator "sppm"` `numiterations` (64), `radius` (1), `photonsperiteration` (-1: pixel count), `maxdepth` (5) | `ppm(radius, photons, eye_depth: maxdepth, photon_depth: maxdepth)` (pbrt limits eye and photon paths separately), `spp: numiterations` |
 //! | `"path"`, `"volpath"`, `"bdpt"`, `"mlt"`, ... `maxdepth` (5) | `envlight(max_depth: maxdepth + 1)` (pbrt counts bounces, Prism path segments) |
 //! | `"directlighting"` | `envlight(max_depth: 2)` |
 //! | `"whitted"` `maxdepth` | `phong(max_depth: maxdepth)` |
@@ -153,7 +153,12 @@ impl SceneWide {
                         p.has("imagewritefrequency");
                         p.has("seed");
                         (
-                            format!("ppm(radius: {}{photons}, max_depth: {segments})", num(radius)),
+                            // pbrt's SPPM follows camera paths and photon paths `maxdepth` segments each.
+                            format!(
+                                "ppm(radius: {}{photons}, eye_depth: {depth}, photon_depth: {depth})",
+                                num(radius),
+                                depth = depth.clamp(1, 1 << 20)
+                            ),
                             Some(iters.min(1 << 24) as u32),
                         )
                     }
