@@ -41,7 +41,7 @@ pub struct RenderArgs {
     #[arg(long, allow_negative_numbers = true)]
     pub time: Option<f64>,
     /// Noise target: stop after the first pass at which the image's estimated relative error (relMSE, from the
-    /// film itself) is at most REL; unlimited samples unless --spp or --time is given (then at most 65536 spp)
+    /// film itself) is at most REL, or at --spp or --time if that comes first; with neither, at most 65536 spp
     #[arg(long, value_name = "REL", allow_negative_numbers = true)]
     pub noise: Option<f32>,
     /// Image size, WIDTHxHEIGHT.
