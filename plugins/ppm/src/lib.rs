@@ -93,18 +93,18 @@
 //! ## In the source
 //!
 //! `params.rs` (the parameters and their checks), `visible.rs` (the eye pass and its visible points), `photons.rs`
-//! (the photon pass), `hash_grid.rs` and `kd_tree.rs` (the two photon lookups), `gather.rs` (the radius update and
+//! (the photon pass), `kd_tree.rs` and the shared `prism_core::accel::PointHashGrid` (the two photon lookups), `gather.rs` (the radius update and
 //! the estimate), `lib.rs` (the iteration, its state for resumes, and the shard by pixel rows).
 
 pub mod gather;
-mod hash_grid;
 mod kd_tree;
 mod params;
 pub mod photons;
 mod visible;
 
 pub use gather::PixelStats;
-pub use hash_grid::PhotonHashGrid;
+/// The hash-grid photon lookup: the shared point grid over photons.
+pub type PhotonHashGrid = prism_core::accel::PointHashGrid<Photon>;
 pub use kd_tree::PhotonKdTree;
 pub use params::{GlossyEye, MAX_PHOTONS, PhotonLookup, PpmMode, PpmParams};
 pub use visible::{EyePass, EyeResult, VisiblePoint};

@@ -34,6 +34,13 @@ pub struct Photon {
     pub depth: u32,
 }
 
+impl prism_core::accel::GridPoint for Photon {
+    #[inline(always)]
+    fn position(&self) -> Vec3A {
+        self.p
+    }
+}
+
 /// Photons traced per parallel chunk (fixed, so storage order does not depend on the thread count).
 pub const CHUNK: u64 = 512;
 

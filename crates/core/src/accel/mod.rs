@@ -13,6 +13,9 @@
 //! | uniform grid | `grid/` | per-cell triangle/box overlap, nested grids for crowded cells |
 //! | brute force | `brute.rs` | none |
 //!
+//! Beside them, [`PointHashGrid`] (`point_hash_grid.rs`) finds stored points (photons, light vertices) within a
+//! radius, for the density estimates of `ppm` and `vcm`.
+//!
 //! [`Scene`]: crate::scene::Scene
 
 mod brute;
@@ -22,6 +25,7 @@ pub mod grid;
 pub mod kdtree;
 mod leaf_packet;
 mod mailbox;
+mod point_hash_grid;
 mod tri_box;
 mod triangle_clip;
 mod wide_bvh;
@@ -31,6 +35,7 @@ pub use brute::BruteForce;
 pub use cwbvh::BvhAccel;
 pub use grid::{CellHit, GridCell, UniformGrid};
 pub use kdtree::{KdParams, KdTree};
+pub use point_hash_grid::{GridPoint, PointHashGrid};
 pub use tri_box::triangle_overlaps_box;
 pub use wide_bvh::{Candidate as BvhCandidate, PACKET, SPLIT_SAMPLES_PER_PRIMITIVE, SpatialSplits, WideBvh};
 pub use work::{NoCount, TraversalWork, WorkCounter};
