@@ -84,8 +84,11 @@ impl<T: GridPoint> PointHashGrid<T> {
         let table = (2 * n).next_power_of_two().max(1024);
         self.mask = table as u32 - 1;
         self.inv_cell = 1.0 / cell;
-        self.origin =
-            chunks.iter().flatten().fold(Vec3A::splat(f32::INFINITY), |m, p| m.min(p.position())).min(Vec3A::splat(f32::MAX));
+        self.origin = chunks
+            .iter()
+            .flatten()
+            .fold(Vec3A::splat(f32::INFINITY), |m, p| m.min(p.position()))
+            .min(Vec3A::splat(f32::MAX));
         // Slots of every point, in parallel (each chunk writes its own range).
         let (origin, inv_cell, mask) = (self.origin, self.inv_cell, self.mask);
         self.slots.resize(n, 0);
