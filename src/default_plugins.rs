@@ -1,5 +1,5 @@
 //! The plugins the `prism` binary ships: the engine's stage systems, the scene loaders and every built-in integrator
-//! (`phong`, `envlight`, `ppm`, `debug`). It lives at the top of the crate graph, so the engine names no plugin.
+//! (`phong`, `envlight`, `ppm`, `vcm`, `debug`). It lives at the top of the crate graph, so the engine names no plugin.
 
 use prism_engine::{App, CorePlugin, Plugin};
 
@@ -17,6 +17,7 @@ impl Plugin for DefaultPlugins {
         app.add_plugin(prism_phong::PhongPlugin);
         app.add_plugin(prism_envlight::EnvlightPlugin);
         app.add_plugin(prism_ppm::PpmPlugin);
+        app.add_plugin(prism_vcm::VcmPlugin);
         app.add_plugin(prism_debug::DebugPlugin);
     }
 }

@@ -4,7 +4,7 @@
 //! transform, shape, material and light components; scheduled systems propagate transforms, flatten shapes into
 //! primitives (triangles, and analytic shapes: spheres, ellipsoids, surfaces of revolution and Bézier patches
 //! intersected exactly), build an accelerator (an 8-wide BVH, obvhs's CWBVH, an SAH kd-tree, a uniform grid, or
-//! brute force), prepare lights and the chosen integrator plugin (`phong`, `envlight`, `ppm`, `debug`), and render
+//! brute force), prepare lights and the chosen integrator plugin (`phong`, `envlight`, `ppm`, `vcm`, `debug`), and render
 //! progressive passes into an exact, mergeable HDR film written as EXR or PNG.
 //!
 //! This crate is the facade over the workspace, whose crate graph is the layering
@@ -38,4 +38,5 @@ pub mod plugins {
     pub use prism_envlight as envlight;
     pub use prism_phong as phong;
     pub use prism_ppm as ppm;
+    pub use prism_vcm as vcm;
 }

@@ -231,6 +231,58 @@ impl CameraRig {
         if self.ortho { per_pixel } else { per_pixel * distance }
     }
 
+    /// True for a pinhole perspective camera (no lens, not orthographic): the one camera a light path can be
+    /// connected to ([`CameraRig::project`]).
+    pub fn is_pinhole(&self) -> bool {
+        !self.ortho && !self.has_lens()
+    }
+
+    /// Distance from a pinhole to the image plane on which a pixel has area 1: the plane where film positions are
+    /// pixels.
+    #[inline]
+    fn unit_pixel_plane(&self) -> f32 {
+        self.height as f32 / (2.0 * self.half_h * self.window[3])
+    }
+
+    /// The density of a pinhole's camera ray in unit direction `dir`, in solid angle per unit of film area (pixels):
+    /// `d^2 / cos^3` for the image plane at distance `d` where a pixel has area 1 and `cos` the angle to the view
+    /// (SmallVCM's `cameraPdfW`). 0 behind the camera.
+    #[inline]
+    pub fn ray_pdf(&self, dir: Vec3A) -> f32 {
+        let cos = dir.dot(self.forward);
+        if cos <= 0.0 {
+            return 0.0;
+        }
+        let d = self.unit_pixel_plane();
+        d * d / (cos * cos * cos)
+    }
+
+    /// Where the world point `p` appears on a pinhole's film (pixels), with the unit direction from `p` to the eye,
+    /// the distance and [`CameraRig::ray_pdf`] of the ray through it; `None` behind the camera, outside the film,
+    /// or for cameras that are not pinholes. Light tracing splats a light vertex seen by the camera there.
+    pub fn project(&self, p: Vec3A) -> Option<(Vec2, Vec3A, f32, f32)> {
+        if !self.is_pinhole() {
+            return None;
+        }
+        let d = p - self.eye;
+        let z = d.dot(self.forward);
+        if !(z > 0.0 && z.is_finite()) {
+            return None;
+        }
+        let (x, y) = (d.dot(self.right) / z, d.dot(self.up) / z);
+        let [x0, y0, ..] = self.window;
+        let film = Vec2::new(
+            ((0.5 * (x / self.half_w + 1.0)) - x0) / self.film_scale[0],
+            ((0.5 * (1.0 - y / self.half_h)) - y0) / self.film_scale[1],
+        );
+        if !(film.x >= 0.0 && film.y >= 0.0 && film.x < self.width as f32 && film.y < self.height as f32) {
+            return None;
+        }
+        let dist = d.length();
+        let to_eye = -d / dist;
+        Some((film, to_eye, dist, self.ray_pdf(-to_eye)))
+    }
+
     /// The eye (pinhole or lens centre), world space.
     pub fn eye(&self) -> Vec3A {
         self.eye

@@ -398,6 +398,37 @@ impl Bsdf {
         pdf
     }
 
+    /// The reverse density: with which a BSDF at this point seen from `wi` would sample `wo` through a smooth lobe
+    /// (solid angle), its lobes chosen by their weights seen from `wi`. Bidirectional methods need it for the MIS
+    /// weights of the strategies that would have built a path the other way. A refraction seen from the other side
+    /// crosses the inverse index of refraction. 0 for delta lobes and where the BSDF does not scatter `wi` to `wo`.
+    pub fn pdf_rev(&self, wi: Vec3A) -> f32 {
+        let wl = self.frame.to_local(wi);
+        if !self.smooth || !self.consistent(wi, wl) {
+            return 0.0;
+        }
+        // The reverse BSDF's frame faces `wi`: from below, both directions are mirrored through the surface.
+        let below = wl.z < 0.0;
+        let side = |v: Vec3A| if below { Vec3A::new(v.x, v.y, -v.z) } else { v };
+        let (from, to) = (side(wl), side(self.wo_local));
+        let (mut total, mut pdf) = (0.0f32, 0.0f32);
+        for l in self.lobes() {
+            let l = match *l {
+                Lobe::RoughDielectric { alpha, r, t, eta } if below => {
+                    Lobe::RoughDielectric { alpha, r, t, eta: 1.0 / eta }
+                }
+                Lobe::Dielectric { r, t, eta } if below => Lobe::Dielectric { r, t, eta: 1.0 / eta },
+                other => other,
+            };
+            let w = l.selection_weight(from);
+            total += w;
+            if w > 0.0 && !l.is_delta() {
+                pdf += w * l.pdf(from, to);
+            }
+        }
+        if total > 0.0 && pdf.is_finite() { pdf / total } else { 0.0 }
+    }
+
     /// Sample a direction (radiance): `u_lobe` picks the lobe (and is reused within it), `u` the direction.
     ///
     /// A lone Lambertian lobe is sampled inline in the caller (the path loop); every other BSDF through the general

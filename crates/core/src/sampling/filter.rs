@@ -101,6 +101,17 @@ impl PixelFilter {
         }
     }
 
+    /// The normalised filter at an offset from the pixel centre: the density (per square pixel) with which
+    /// [`PixelFilter::warp`] places a camera sample there. Light tracing weights a splat by it.
+    pub fn density(&self, d: Vec2) -> f32 {
+        let integral = match *self {
+            PixelFilter::Box { radius } => 4.0 * radius * radius,
+            PixelFilter::Tent { radius } => std::f32::consts::PI * radius * radius / 3.0,
+            PixelFilter::Gaussian { sigma } => TAU * sigma * sigma * (1.0 - (-2.0f32).exp()),
+        };
+        self.weight(d) / integral
+    }
+
     /// The offset from the pixel centre of the sample `u` in [0,1)^2, distributed as the normalised filter.
     #[inline]
     pub fn warp(&self, u: Vec2) -> Vec2 {
