@@ -1,9 +1,10 @@
-//! Near-specular lobes under estimators without multiple importance sampling (`prism::bsdf::NEAR_SPECULAR_ALPHA`):
-//! a plastic sphere with a GGX coat of width 0.001 in a white furnace against Mitsuba 3's render of it
-//! (`tests/data/mitsuba_furnace_plastic.csv`, made by the script beside it), for `envlight` with and without MIS and
-//! `ppm`; and the split itself: the near-specular and wide parts add up to the BSDF, the lobe number selects the
-//! near-specular part with its probability, and the near-specular estimate (`Bsdf::near_specular_weight` on that
-//! part's samples) and the share of the mixture estimate (`Bsdf::near_specular_share`) converge to the same integral.
+//! Near-specular lobes under estimators without multiple importance sampling (`prism::bsdf::NEAR_SPECULAR_ALPHA`): a
+//! plastic sphere with a GGX coat of width 0.001 in a white furnace against Mitsuba 3's render of it
+//! (`tests/data/mitsuba_furnace_plastic.csv`, made by the script beside it), for `envlight` with and without MIS,
+//! `ppm`, `vcm` and `vcm(mode: bdpt)`; and the split itself: the near-specular and wide parts add up to the BSDF, the
+//! lobe number selects the near-specular part with its probability, and the near-specular estimate
+//! (`Bsdf::near_specular_weight` on that part's samples) and the share of the mixture estimate
+//! (`Bsdf::near_specular_share`) converge to the same integral.
 
 use crate::common::{render_ron, spp};
 use glam::{Vec2, Vec3, Vec3A};
@@ -29,9 +30,15 @@ fn mitsuba_mean() -> Vec3 {
 fn a_nearly_smooth_plastic_coat_reflects_the_white_furnace_under_every_integrator() {
     let reference = mitsuba_mean();
     let r = (0.25f64.asin().tan() / 20f64.to_radians().tan()) * 32.0;
-    for integrator in
-        ["envlight", "envlight(mis: false)", "envlight(mis: false, max_depth: 2)", "ppm", "ppm(glossy: gather)"]
-    {
+    for integrator in [
+        "envlight",
+        "envlight(mis: false)",
+        "envlight(mis: false, max_depth: 2)",
+        "ppm",
+        "ppm(glossy: gather)",
+        "vcm",
+        "vcm(mode: bdpt)",
+    ] {
         let mut o = spp(256);
         o.integrator = Some(integrator.into());
         let img = render_ron(FURNACE, o);

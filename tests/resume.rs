@@ -63,6 +63,14 @@ fn photon_mapping_row_shards_merge_bit_identically() {
     shards_merge_exactly("shards-ppm-3", &scene, &extra, 3);
 }
 
+#[test]
+fn bidirectional_shards_merge_bit_identically() {
+    // Light tracing splats anywhere on the film: the fixed-point sums of each shard's passes still add up exactly.
+    let scene = scene_path("cornell_caustic.ron");
+    let extra = ["--size", "40x40", "--spp", "6", "--passes", "3", "--integrator", "vcm"];
+    shards_merge_exactly("shards-vcm-3", &scene, &extra, 3);
+}
+
 /// Render 2 of 4 passes into a film (a checkpoint's state), resume it, compare with the uninterrupted render.
 fn resume_is_exact(name: &str, integrator: &str, adaptive: &str) {
     let dir = scratch(name);
@@ -107,6 +115,7 @@ fn resumed_renders_equal_uninterrupted_ones() {
     // Adaptive: the resumed process re-renders the pilot pass for the rates (the film already holds it).
     resume_is_exact("resume-envlight-adaptive", "envlight(max_depth: 12)", "true");
     resume_is_exact("resume-ppm", "ppm(max_depth: 12)", "false");
+    resume_is_exact("resume-vcm", "vcm(max_depth: 12)", "false");
 }
 
 #[test]

@@ -52,4 +52,5 @@ mod scene_overrides;
 mod scenes;
 mod stability;
 mod untrusted_formats;
+mod vcm;
 mod watch;

@@ -1,0 +1,127 @@
+//! `vcm` (light tracing, BDPT, bidirectional photon mapping, vertex connection and merging) against ground truth:
+//! each strategy set alone converges to the path tracer's Cornell box (light tracing alone, connections alone,
+//! merging alone, all of them: the MIS weights of the strategies used partition every path, so each set is
+//! unbiased, and merging's bias shrinks with the radius); the BSDF's reverse density is the forward density of the
+//! BSDF seen from the other side; bit-identical images across thread counts; a camera with a lens and bad
+//! parameters are one-line errors. (The near-specular furnace is in `near_specular`; resumes and shards in
+//! `resume`.)
+
+use crate::common::{app_from_file, render_file, scene_path};
+use glam::{Vec3, Vec3A};
+use prism::bsdf::{Bsdf, ConductorFresnel, Lobe};
+use prism::io::Image;
+use prism::sampling::Rng;
+use prism::settings::Overrides;
+
+fn with(integrator: &str, spp: u32, size: u32) -> Overrides {
+    Overrides { integrator: Some(integrator.into()), spp: Some(spp), size: Some((size, size)), ..Default::default() }
+}
+
+fn mean(img: &Image) -> Vec3 {
+    let s: glam::DVec3 = img.pixels.iter().map(|p| p.as_dvec3()).sum();
+    (s / img.pixels.len() as f64).as_vec3()
+}
+
+#[test]
+fn every_strategy_set_converges_to_the_path_tracers_cornell_box() {
+    let scene = scene_path("cornell_box.ron");
+    let reference = mean(&render_file(&scene, with("envlight(max_depth: -1)", 1024, 48)));
+    for (mode, tol) in [("light", 0.01), ("bdpt", 0.01), ("bpm", 0.01), ("vcm", 0.01)] {
+        let img = render_file(&scene, with(&format!("vcm(mode: {mode})"), 128, 48));
+        let m = mean(&img);
+        let rel = ((m - reference) / reference).abs().max_element();
+        assert!(rel < tol, "vcm(mode: {mode}): image mean {m}, path tracer {reference} ({:.2}% off)", rel * 100.0);
+    }
+}
+
+#[test]
+fn the_caustic_box_matches_the_path_tracer_with_connections_and_with_merging() {
+    let scene = scene_path("cornell_caustic.ron");
+    let reference = mean(&render_file(&scene, with("envlight(max_depth: 12)", 1024, 40)));
+    for mode in ["bdpt", "vcm"] {
+        let m = mean(&render_file(&scene, with(&format!("vcm(mode: {mode}, max_depth: 12)"), 96, 40)));
+        let rel = ((m - reference) / reference).abs().max_element();
+        assert!(rel < 0.01, "vcm(mode: {mode}): caustic box mean {m}, path tracer {reference}");
+    }
+}
+
+/// A BSDF of `lobes` around +z seen from `wo`.
+fn bsdf(wo: Vec3A, lobes: &[Lobe]) -> Option<Bsdf> {
+    Bsdf::from_lobes(Vec3A::Z, wo, lobes)
+}
+
+fn upper(rng: &mut Rng) -> Vec3A {
+    let (u, v) = (rng.next_f32(), rng.next_f32());
+    let z = 0.05 + 0.95 * u;
+    let r = (1.0 - z * z).sqrt();
+    let phi = std::f32::consts::TAU * v;
+    Vec3A::new(r * phi.cos(), r * phi.sin(), z)
+}
+
+#[test]
+fn the_reverse_density_is_the_forward_density_of_the_bsdf_seen_from_the_other_direction() {
+    let gold = ConductorFresnel::Schlick(Vec3::new(1.0, 0.78, 0.34));
+    let cases: Vec<Vec<Lobe>> = vec![
+        vec![Lobe::Diffuse { albedo: Vec3::splat(0.5) }],
+        vec![Lobe::Conductor { alpha: 0.3, fresnel: gold, scale: Vec3::ONE }],
+        vec![
+            Lobe::Conductor { alpha: 0.1, fresnel: gold, scale: Vec3::ONE },
+            Lobe::Diffuse { albedo: Vec3::new(0.2, 0.5, 0.8) },
+        ],
+    ];
+    let mut rng = Rng::new(7, 11);
+    for lobes in &cases {
+        for _ in 0..200 {
+            let (wo, wi) = (upper(&mut rng), upper(&mut rng));
+            let (Some(a), Some(b)) = (bsdf(wo, lobes), bsdf(wi, lobes)) else { continue };
+            let (rev, fwd) = (a.pdf_rev(wi), b.pdf(wo));
+            assert!(
+                (rev - fwd).abs() <= 1e-4 * fwd.max(1e-3),
+                "{lobes:?}: pdf_rev {rev} from wo {wo} towards wi {wi}, forward pdf from wi {fwd}"
+            );
+        }
+    }
+}
+
+#[test]
+fn vcm_is_bit_identical_across_thread_counts() {
+    for scene in ["cornell_caustic.ron", "cornell_rough.ron"] {
+        let render = |threads: usize| {
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+            pool.install(|| render_file(&scene_path(scene), with("vcm", 3, 40)))
+        };
+        let (a, b) = (render(1), render(2));
+        assert!(
+            a.pixels
+                .iter()
+                .zip(&b.pixels)
+                .all(|(p, q)| p.to_array().map(f32::to_bits) == q.to_array().map(f32::to_bits)),
+            "{scene}"
+        );
+    }
+}
+
+#[test]
+fn a_lens_camera_and_bad_vcm_parameters_are_one_line_errors() {
+    let mut app = app_from_file(&scene_path("dof.ron"), with("vcm", 1, 16));
+    let err = app.run().expect_err("a lens camera").to_string();
+    assert!(err.contains("pinhole") && !err.contains('\n'), "{err}");
+    for (spec, needle) in [
+        ("vcm(alpha: 0)", "alpha"),
+        ("vcm(alpha: 1.5)", "alpha"),
+        ("vcm(radius: 0)", "radius"),
+        ("vcm(radius: NaN)", "radius"),
+        ("vcm(radius_pixels: -1)", "radius_pixels"),
+        ("vcm(light_paths: 0)", "light_paths"),
+        ("vcm(light_paths: 100000000)", "light_paths"),
+        ("vcm(max_depth: 0)", "max_depth"),
+        ("vcm(max_depth: -2)", "max_depth"),
+        ("vcm(mode: sideways)", "mode"),
+        ("vcm(heuristic: maximum)", "heuristic"),
+        ("vcm(gamma: 1)", "gamma"),
+    ] {
+        let mut app = app_from_file(&scene_path("cornell_box.ron"), with(spec, 1, 16));
+        let err = app.run().expect_err(spec).to_string();
+        assert!(err.contains(needle) && !err.contains('\n'), "{spec}: {err}");
+    }
+}
