@@ -55,7 +55,7 @@ fn every_bitterli_scene_loads_without_a_warning_about_a_construct_now_read() {
 
 /// The Cornell box (diffuse walls, one area light) and veach-bidir (diffuse room, glass egg, a lamp) use only
 /// constructs Prism models. The Cornell file's `maxdepth 4` (the reference is unbounded) darkens it a few per
-/// cent; veach-bidir asks for `bdpt`, rendered by path tracing, whose mean is unbiased but noisy at 16 spp.
+/// cent; veach-bidir asks for `bdpt`, rendered by `vcm(mode: bdpt)`, whose mean is unbiased.
 #[test]
 fn the_fully_modelled_bitterli_scenes_have_the_references_mean() {
     for (name, band) in [("cornell-box", 0.06), ("veach-bidir", 0.1)] {

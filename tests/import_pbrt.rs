@@ -42,8 +42,8 @@ fn the_caustic_glass_files_convert_with_the_integrator_iterations_and_crop_they_
         ("f16-9c.pbrt", "ppm(radius: 0.075, eye_depth: 5, photon_depth: 5)", 10000, (700, 1000)),
         ("f16-11a.pbrt", "ppm(radius: 0.075, photons: 100000, eye_depth: 5, photon_depth: 5)", 500, (560, 600)),
         ("f16-11b.pbrt", "ppm(radius: 0.075, photons: 5000000, eye_depth: 5, photon_depth: 5)", 10, (560, 600)),
-        // bdpt with maxdepth 20 (bounces) is path tracing with 21 segments.
-        ("glass.pbrt", "envlight(max_depth: 21)", 8192, (1050, 1500)),
+        // bdpt with maxdepth 20 (bounces) is bidirectional path tracing with 21 segments.
+        ("glass.pbrt", "vcm(mode: bdpt, max_depth: 21)", 8192, (1050, 1500)),
     ];
     for (file, integ, n, size) in cases {
         let ron = ron_of(&data(&format!("caustic_glass/{file}")));

@@ -11,7 +11,8 @@
 //! | v3 `scale`, v4 `iso` x `exposuretime` / 100 | `exposure: log2(...)` (PNG only; EXR stays linear) |
 //! | `Sampler "*" pixelsamples` (16) | `spp` |
 //! | `Integrator "sppm"` `numiterations` (64), `radius` (1), `photonsperiteration` (-1: pixel count), `maxdepth` (5) | `ppm(radius, photons, eye_depth: maxdepth, photon_depth: maxdepth)` (pbrt limits eye and photon paths separately), `spp: numiterations` |
-//! | `"path"`, `"volpath"`, `"bdpt"`, `"mlt"`, ... `maxdepth` (5) | `envlight(max_depth: maxdepth + 1)` (pbrt counts bounces, Prism path segments) |
+//! | `"path"`, `"volpath"`, ... `maxdepth` (5) | `envlight(max_depth: maxdepth + 1)` (pbrt counts bounces, Prism path segments) |
+//! | `"bdpt"`, `"mlt"` `maxdepth` (5) | `vcm(mode: bdpt, max_depth: maxdepth + 1)`, `vcm(mode: vcm, ...)` (a note); `envlight` for a lens or orthographic camera, which `vcm` cannot connect to |
 //! | `"directlighting"` | `envlight(max_depth: 2)` |
 //! | `"whitted"` `maxdepth` | `phong(max_depth: maxdepth)` |
 //! | `PixelFilter` `box`, `gaussian` (`sigma`), `triangle` (`xradius`) | `Box(radius)`, `Gaussian(sigma)`, `Tent(radius)`; others: box |
@@ -28,6 +29,8 @@ pub struct SceneWide {
     ortho: bool,
     fov: f64,
     lens_radius: f64,
+    /// The path tracer a bidirectional integrator falls back to for a camera that is not a pinhole.
+    path_fallback: Option<String>,
     focal_distance: f64,
     resolution: Option<(u32, u32)>,
     /// pbrt's crop window `[x0, x1, y0, y1]`.
@@ -164,7 +167,17 @@ impl SceneWide {
                     }
                     "path" | "volpath" | "bdpt" | "mlt" | "lightpath" | "randomwalk" | "simplepath"
                     | "simplevolpath" => {
-                        if ty != "path" && ty != "volpath" && ty != "simplepath" {
+                        let bidirectional = match ty {
+                            "bdpt" => Some("vcm(mode: bdpt"),
+                            "mlt" => Some("vcm(mode: vcm"),
+                            _ => None,
+                        };
+                        if let Some(spec) = bidirectional {
+                            c.warn(format!(
+                                "Integrator \"{ty}\" renders with {spec}) (envlight where the camera has a lens or \
+                                 is orthographic)"
+                            ));
+                        } else if ty != "path" && ty != "volpath" && ty != "simplepath" {
                             c.warn(format!(
                                 "Integrator \"{ty}\" is approximated by unidirectional path tracing (envlight)"
                             ));
@@ -183,7 +196,11 @@ impl SceneWide {
                         ] {
                             p.has(ignored);
                         }
-                        (format!("envlight(max_depth: {segments})"), None)
+                        self.path_fallback = bidirectional.map(|_| format!("envlight(max_depth: {segments})"));
+                        match bidirectional {
+                            Some(spec) => (format!("{spec}, max_depth: {segments})"), None),
+                            None => (format!("envlight(max_depth: {segments})"), None),
+                        }
                     }
                     "directlighting" => {
                         c.warn("Integrator \"directlighting\" is approximated by envlight(max_depth: 2)");
@@ -297,8 +314,14 @@ impl SceneWide {
             );
         }
         out.push_str("),\n    render: (");
-        let (integrator, iterations) =
+        let (mut integrator, iterations) =
             self.integrator.clone().unwrap_or_else(|| ("envlight(max_depth: 6)".into(), None));
+        // `vcm` connects light paths to a pinhole: other cameras are path traced.
+        if let Some(fallback) = &self.path_fallback
+            && (self.ortho || self.lens_radius > 0.0)
+        {
+            integrator = fallback.clone();
+        }
         let _ = write!(out, "integrator: {integrator}, spp: {}", iterations.or(self.spp).unwrap_or(16));
         if let Some(f) = &self.filter {
             let _ = write!(out, ", filter: {f}");
