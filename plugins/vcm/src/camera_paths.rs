@@ -22,6 +22,7 @@ use prism_core::accel::PointHashGrid;
 use prism_core::bsdf::{Bsdf, TransportMode};
 use prism_core::integrator::roulette::survival;
 use prism_core::lights::LightSampler;
+use prism_core::math::Frame;
 use prism_core::primitives::{NO_LIGHT, SurfaceHit};
 use prism_core::sampling::{Rng, Sampler, hash_u64};
 use prism_core::scene::Scene;
@@ -93,6 +94,7 @@ impl CameraPass<'_> {
         let (mut length, mut specular_path, mut eta2) = (1u32, true, 1.0f32);
         let mut origin = ray.origin;
         let partner = self.light_path(pixel % self.light_paths.max(1));
+        let mut bsdf = Bsdf::new(Frame::from_normal(Vec3A::Z), Vec3A::Z, Vec3A::Z);
         loop {
             let (u_choice, u_light) = (sampler.next_1d(), sampler.next_2d());
             let (u_lobe, u_bsdf, u_rr) = (sampler.next_1d(), sampler.next_2d(), sampler.next_1d());
@@ -111,7 +113,9 @@ impl CameraPass<'_> {
             if length >= self.max_segments {
                 break;
             }
-            let Some(bsdf) = scene.bsdf(&hit, wo) else { break };
+            if !scene.bsdf_into(&hit, wo, &mut bsdf) {
+                break;
+            }
             if bsdf.has_smooth() {
                 if self.light_only {
                     break;
@@ -195,7 +199,7 @@ impl CameraPass<'_> {
         if !(ls.pdf > 0.0 && ls.pdf.is_finite()) || ls.li == Vec3::ZERO {
             return Vec3::ZERO;
         }
-        let f = bsdf.eval(ls.wi);
+        let (f, bsdf_pdf, bsdf_rev) = bsdf.eval_pdfs(ls.wi, TransportMode::Radiance);
         if f == Vec3::ZERO {
             return Vec3::ZERO;
         }
@@ -214,10 +218,10 @@ impl CameraPass<'_> {
             (false, _) => pdfs.nee,
         };
         let mis = &self.mis;
-        let w_light = if pdfs.delta { 0.0 } else { mis.m(bsdf.pdf(ls.wi) / nee_w) };
+        let w_light = if pdfs.delta { 0.0 } else { mis.m(bsdf_pdf / nee_w) };
         let cos_geo = hit.ng.dot(ls.wi).abs();
-        let w_camera = mis.m(pdfs.emission * cos_geo / (nee_w * cos_light))
-            * (mis.vm + w.dvcm + w.dvc * mis.m(bsdf.pdf_rev(ls.wi)));
+        let w_camera =
+            mis.m(pdfs.emission * cos_geo / (nee_w * cos_light)) * (mis.vm + w.dvcm + w.dvc * mis.m(bsdf_rev));
         let weight = 1.0 / (w_light + 1.0 + w_camera);
         let c = f * ls.li * (bsdf.normal().dot(ls.wi).abs() * weight / ls.pdf);
         if !(c.max_element() > 0.0 && c.max_element().is_finite())
@@ -231,33 +235,33 @@ impl CameraPass<'_> {
     /// The connection of camera vertex `hit` and light vertex `lv` (without the two throughputs)
     /// [tech. rep. (40)-(41)].
     fn connect(&self, hit: &SurfaceHit, bsdf: &Bsdf, w: &Partial, lv: &LightVertex) -> Vec3 {
-        let d = lv.s.p - hit.p;
+        let d = lv.p - hit.p;
         let dist2 = d.length_squared();
         if !(dist2 > 0.0 && dist2.is_finite()) {
             return Vec3::ZERO;
         }
         let dist = dist2.sqrt();
         let dir = d / dist;
-        let fc = bsdf.eval(dir);
+        let (fc, camera_pdf, camera_rev) = bsdf.eval_pdfs(dir, TransportMode::Radiance);
         if fc == Vec3::ZERO {
             return Vec3::ZERO;
         }
-        let Some(lb) = self.scene.bsdf(&lv.s, lv.wo) else { return Vec3::ZERO };
-        let fl = lb.eval_mode(-dir, TransportMode::Importance);
+        let lb = &lv.bsdf;
+        let (fl, light_pdf, light_rev) = lb.eval_pdfs(-dir, TransportMode::Importance);
         if fl == Vec3::ZERO {
             return Vec3::ZERO;
         }
         let mis = &self.mis;
-        let camera_pdf_a = bsdf.pdf(dir) * lv.s.ng.dot(dir).abs() / dist2;
-        let light_pdf_a = lb.pdf(-dir) * hit.ng.dot(dir).abs() / dist2;
-        let w_light = mis.m(camera_pdf_a) * (mis.vm + lv.mis.dvcm + lv.mis.dvc * mis.m(lb.pdf_rev(-dir)));
-        let w_camera = mis.m(light_pdf_a) * (mis.vm + w.dvcm + w.dvc * mis.m(bsdf.pdf_rev(dir)));
+        let camera_pdf_a = camera_pdf * lv.ng.dot(dir).abs() / dist2;
+        let light_pdf_a = light_pdf * hit.ng.dot(dir).abs() / dist2;
+        let w_light = mis.m(camera_pdf_a) * (mis.vm + lv.mis.dvcm + lv.mis.dvc * mis.m(light_rev));
+        let w_camera = mis.m(light_pdf_a) * (mis.vm + w.dvcm + w.dvc * mis.m(camera_rev));
         let g = bsdf.normal().dot(dir).abs() * lb.normal().dot(dir).abs() / dist2;
         let c = fc * fl * (g / (w_light + 1.0 + w_camera));
         if !(c.max_element() > 0.0 && c.is_finite()) {
             return Vec3::ZERO;
         }
-        if self.scene.occluded(&hit.spawn_to(lv.s.p, lv.s.p_err, lv.s.ng)) {
+        if self.scene.occluded(&hit.spawn_to(lv.p, lv.p_err, lv.ng)) {
             return Vec3::ZERO;
         }
         c
@@ -273,12 +277,12 @@ impl CameraPass<'_> {
             if mv.length + length > self.max_segments || mv.ng.dot(ng) <= 0.0 {
                 return;
             }
-            let f = bsdf.eval(mv.wo);
+            let (f, pdf, rev) = bsdf.eval_pdfs(mv.wo, TransportMode::Radiance);
             if f == Vec3::ZERO {
                 return;
             }
-            let w_light = mv.dvcm * mis.vc + mv.dvm * mis.m(bsdf.pdf(mv.wo));
-            let w_camera = w.dvcm * mis.vc + w.dvm * mis.m(bsdf.pdf_rev(mv.wo));
+            let w_light = mv.dvcm * mis.vc + mv.dvm * mis.m(pdf);
+            let w_camera = w.dvcm * mis.vc + w.dvm * mis.m(rev);
             let c = f * mv.beta / (w_light + 1.0 + w_camera);
             if c.is_finite() {
                 sum += c;

@@ -14,7 +14,7 @@
 
 use glam::{Vec2, Vec3, Vec3A};
 use prism_core::accel::GridPoint;
-use prism_core::bsdf::TransportMode;
+use prism_core::bsdf::{Bsdf, TransportMode};
 use prism_core::lights::LightSampler;
 use prism_core::math::luminance;
 use prism_core::primitives::SurfaceHit;
@@ -25,13 +25,18 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 use super::mis::{Mis, Partial, light_pdfs};
 
-/// A light-path vertex kept for connections: its surface, where the light came from, and its weights.
+/// A light-path vertex kept for connections: its point, its BSDF (seen from the previous vertex, built once in the
+/// light pass for every camera vertex that connects to it), and its weights.
 #[derive(Clone, Copy, Debug)]
 pub struct LightVertex {
-    /// The surface point (its BSDF is built again for a connection).
-    pub s: SurfaceHit,
-    /// Unit direction towards the previous vertex of the light path.
-    pub wo: Vec3A,
+    /// The BSDF at the vertex, `wo` towards the previous vertex of the light path.
+    pub bsdf: Bsdf,
+    /// Position.
+    pub p: Vec3A,
+    /// Floating-point error bound of `p` (shadow rays start off the surface).
+    pub p_err: Vec3A,
+    /// Geometric normal, as the primitive orients it.
+    pub ng: Vec3A,
     /// Throughput from the light: the light's power over the densities of the path so far.
     pub beta: Vec3,
     /// MIS quantities at the vertex.
@@ -178,7 +183,7 @@ impl LightPass<'_> {
             let Some(bsdf) = scene.bsdf(&s, wo) else { break };
             if bsdf.has_smooth() {
                 if self.keep_vertices {
-                    out.vertices.push(LightVertex { s, wo, beta, mis: w, length });
+                    out.vertices.push(LightVertex { bsdf, p: s.p, p_err: s.p_err, ng: s.ng, beta, mis: w, length });
                 }
                 if self.keep_merge {
                     let ng = if s.ng.dot(wo) >= 0.0 { s.ng } else { -s.ng };

@@ -407,6 +407,25 @@ impl Bsdf {
         if !self.smooth || !self.consistent(wi, wl) {
             return 0.0;
         }
+        self.pdf_rev_local(wl)
+    }
+
+    /// `f(wo, wi)` for `mode`, the forward density [`Bsdf::pdf`] and the reverse density [`Bsdf::pdf_rev`] of one
+    /// direction together (one change of frame): what a bidirectional connection or merge needs. The same numbers
+    /// as the three calls.
+    #[inline]
+    pub fn eval_pdfs(&self, wi: Vec3A, mode: TransportMode) -> (Vec3, f32, f32) {
+        let wl = self.frame.to_local(wi);
+        if !self.smooth || !self.consistent(wi, wl) {
+            return (Vec3::ZERO, 0.0, 0.0);
+        }
+        let f = self.eval_local(wl, mode) * self.correction(wi, mode);
+        (f, self.pdf_local(wl), self.pdf_rev_local(wl))
+    }
+
+    /// [`Bsdf::pdf_rev`] of a consistent local direction.
+    #[inline]
+    fn pdf_rev_local(&self, wl: Vec3A) -> f32 {
         // The reverse BSDF's frame faces `wi`: from below, both directions are mirrored through the surface.
         let below = wl.z < 0.0;
         let side = |v: Vec3A| if below { Vec3A::new(v.x, v.y, -v.z) } else { v };
