@@ -411,16 +411,16 @@ impl Bsdf {
     }
 
     /// `f(wo, wi)` for `mode`, the forward density [`Bsdf::pdf`] and the reverse density [`Bsdf::pdf_rev`] of one
-    /// direction together (one change of frame): what a bidirectional connection or merge needs. The same numbers
-    /// as the three calls.
+    /// direction together (one change of frame, a lone lobe's common factors shared as in [`Bsdf::eval_pdf`]): what
+    /// a bidirectional connection or merge needs.
     #[inline]
     pub fn eval_pdfs(&self, wi: Vec3A, mode: TransportMode) -> (Vec3, f32, f32) {
         let wl = self.frame.to_local(wi);
         if !self.smooth || !self.consistent(wi, wl) {
             return (Vec3::ZERO, 0.0, 0.0);
         }
-        let f = self.eval_local(wl, mode) * self.correction(wi, mode);
-        (f, self.pdf_local(wl), self.pdf_rev_local(wl))
+        let (f, pdf) = self.eval_pdf_local(wl, mode);
+        (f * self.correction(wi, mode), pdf, self.pdf_rev_local(wl))
     }
 
     /// [`Bsdf::pdf_rev`] of a consistent local direction.
@@ -430,6 +430,12 @@ impl Bsdf {
         let below = wl.z < 0.0;
         let side = |v: Vec3A| if below { Vec3A::new(v.x, v.y, -v.z) } else { v };
         let (from, to) = (side(wl), side(self.wo_local));
+        if self.len == 1 && !matches!(self.lobes[0], Lobe::Dielectric { .. } | Lobe::RoughDielectric { .. }) {
+            // A lone lobe is chosen with probability 1 whenever it can be chosen at all.
+            let l = &self.lobes[0];
+            let pdf = if l.is_delta() || l.selection_weight(from) <= 0.0 { 0.0 } else { l.pdf(from, to) };
+            return if pdf.is_finite() { pdf } else { 0.0 };
+        }
         let (mut total, mut pdf) = (0.0f32, 0.0f32);
         for l in self.lobes() {
             let l = match *l {
