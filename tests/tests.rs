@@ -53,4 +53,5 @@ mod scenes;
 mod stability;
 mod untrusted_formats;
 mod vcm;
+mod vcm_mis;
 mod watch;

@@ -6,7 +6,7 @@
 //! - **next-event estimation** (connections): one light point chosen by power and sampled towards the vertex
 //!   (`sample_li`) [tech. rep. (44)-(45)];
 //! - **connections** to the vertices of light path `pixel mod light_paths` [tech. rep. (40)-(41)];
-//! - **merging** with every light vertex of the iteration within the radius, on the side the camera sees
+//! - **merging** with every light vertex of the iteration within the radius on a surface facing the same way
 //!   [tech. rep. (38)-(39)].
 //!
 //! In light-tracing mode the camera path only gathers emission seen directly or through delta lobes (which light
@@ -30,6 +30,7 @@ use prism_core::settings::RenderSettings;
 
 use super::light_paths::{CHUNK, ChunkOut, LightVertex, MergeVertex};
 use super::mis::{Mis, Partial, light_pdfs};
+use super::weights;
 
 /// The throughput below which camera paths play Russian roulette (`envlight`'s default).
 const RR_THRESHOLD: f32 = 0.5;
@@ -89,7 +90,7 @@ impl CameraPass<'_> {
         }
         let n_light = self.light_paths as f32;
         // [tech. rep. (31)-(33)], completed at the first hit.
-        let mut w = Partial { dvcm: mis.m(n_light / cam_pdf), dvc: 0.0, dvm: 0.0 };
+        let mut w = Partial::camera(mis, n_light, cam_pdf);
         let (mut beta, mut color) = (Vec3::ONE, Vec3::ZERO);
         let (mut length, mut specular_path, mut eta2) = (1u32, true, 1.0f32);
         let mut origin = ray.origin;
@@ -171,8 +172,7 @@ impl CameraPass<'_> {
             return if specular_path { le } else { Vec3::ZERO };
         }
         let pdfs = light_pdfs(scene, self.lights, scene.lights.len(), Vec3A::ZERO, Vec3A::ZERO, -dir);
-        let mis = &self.mis;
-        le / (1.0 + mis.m(pdfs.nee) * w.dvcm + mis.m(pdfs.emission) * w.dvc)
+        le * weights::emission(&self.mis, w, &pdfs)
     }
 
     /// The MIS weight of emission the camera path hits at `hit` (seen from `wo`) after `length` segments.
@@ -184,8 +184,7 @@ impl CameraPass<'_> {
             return if specular_path { 1.0 } else { 0.0 };
         }
         let pdfs = light_pdfs(self.scene, self.lights, hit.light as usize, hit.p, hit.ng, wo);
-        let mis = &self.mis;
-        1.0 / (1.0 + mis.m(pdfs.nee) * w.dvcm + mis.m(pdfs.emission) * w.dvc)
+        weights::emission(&self.mis, w, &pdfs)
     }
 
     /// Next-event estimation at `hit`: one light sample, weighted against emission found by BSDF sampling and
@@ -217,12 +216,8 @@ impl CameraPass<'_> {
             (true, false) => pdfs.nee * ls.dist * ls.dist / cos_light,
             (false, _) => pdfs.nee,
         };
-        let mis = &self.mis;
-        let w_light = if pdfs.delta { 0.0 } else { mis.m(bsdf_pdf / nee_w) };
         let cos_geo = hit.ng.dot(ls.wi).abs();
-        let w_camera =
-            mis.m(pdfs.emission * cos_geo / (nee_w * cos_light)) * (mis.vm + w.dvcm + w.dvc * mis.m(bsdf_rev));
-        let weight = 1.0 / (w_light + 1.0 + w_camera);
+        let weight = weights::next_event(&self.mis, w, &pdfs, (bsdf_pdf, bsdf_rev), nee_w, cos_geo, cos_light);
         let c = f * ls.li * (bsdf.normal().dot(ls.wi).abs() * weight / ls.pdf);
         if !(c.max_element() > 0.0 && c.max_element().is_finite())
             || (!self.lights.proven_clear(hit, slot) && scene.occluded(&ls.shadow_ray(hit)))
@@ -251,13 +246,11 @@ impl CameraPass<'_> {
         if fl == Vec3::ZERO {
             return Vec3::ZERO;
         }
-        let mis = &self.mis;
         let camera_pdf_a = camera_pdf * lv.ng.dot(dir).abs() / dist2;
         let light_pdf_a = light_pdf * hit.ng.dot(dir).abs() / dist2;
-        let w_light = mis.m(camera_pdf_a) * (mis.vm + lv.mis.dvcm + lv.mis.dvc * mis.m(light_rev));
-        let w_camera = mis.m(light_pdf_a) * (mis.vm + w.dvcm + w.dvc * mis.m(camera_rev));
+        let weight = weights::connection(&self.mis, w, &lv.mis, camera_pdf_a, light_pdf_a, camera_rev, light_rev);
         let g = bsdf.normal().dot(dir).abs() * lb.normal().dot(dir).abs() / dist2;
-        let c = fc * fl * (g / (w_light + 1.0 + w_camera));
+        let c = fc * fl * (g * weight);
         if !(c.max_element() > 0.0 && c.is_finite()) {
             return Vec3::ZERO;
         }
@@ -271,7 +264,9 @@ impl CameraPass<'_> {
     /// over the light vertices within the radius [tech. rep. (38)-(39)], before the kernel normalisation.
     fn merge(&self, hit: &SurfaceHit, bsdf: &Bsdf, w: &Partial, length: u32) -> Vec3 {
         let mis = &self.mis;
-        let ng = bsdf.geometric_normal();
+        // Surfaces facing opposite ways are different surfaces (a thin wall's two faces); on one surface the light
+        // may arrive from either side (a rough dielectric transmits it), which the BSDF decides.
+        let ng = hit.ng;
         let mut sum = Vec3::ZERO;
         self.grid.query(hit.p, self.radius, |mv| {
             if mv.length + length > self.max_segments || mv.ng.dot(ng) <= 0.0 {
@@ -281,9 +276,7 @@ impl CameraPass<'_> {
             if f == Vec3::ZERO {
                 return;
             }
-            let w_light = mv.dvcm * mis.vc + mv.dvm * mis.m(pdf);
-            let w_camera = w.dvcm * mis.vc + w.dvm * mis.m(rev);
-            let c = f * mv.beta / (w_light + 1.0 + w_camera);
+            let c = f * mv.beta * weights::merge(mis, w, mv.dvcm, mv.dvm, pdf, rev);
             if c.is_finite() {
                 sum += c;
             }

@@ -24,6 +24,7 @@ use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, Ordering};
 
 use super::mis::{Mis, Partial, light_pdfs};
+use super::weights;
 
 /// A light-path vertex kept for connections: its point, its BSDF (seen from the previous vertex, built once in the
 /// light pass for every camera vertex that connects to it), and its weights.
@@ -52,7 +53,8 @@ pub struct MergeVertex {
     pub p: Vec3A,
     /// Unit direction towards the previous vertex of the light path.
     pub wo: Vec3A,
-    /// Geometric normal on the side the light arrived from (merges on the other side of a thin wall are refused).
+    /// Geometric normal as the primitive orients it: merging with a camera vertex whose surface faces the other
+    /// way (the far side of a wall thinner than the radius) is refused.
     pub ng: Vec3A,
     /// Throughput from the light.
     pub beta: Vec3,
@@ -167,11 +169,7 @@ impl LightPass<'_> {
         }
         // [tech. rep. (31)-(33), (48)-(50)], completed at the first hit.
         let cos_light = if pdfs.finite && !pdfs.delta { le.n.dot(dir).abs() } else { 1.0 };
-        let mut w = Partial { dvcm: mis.m(pdfs.nee / pdfs.emission), ..Partial::default() };
-        if !pdfs.delta {
-            w.dvc = mis.m(cos_light / pdfs.emission);
-        }
-        w.dvm = w.dvc * mis.vc;
+        let mut w = Partial::light(mis, &pdfs, cos_light);
         let mut ray = le.ray;
         let mut length = 1u32;
         let mut origin = ray.origin;
@@ -186,8 +184,7 @@ impl LightPass<'_> {
                     out.vertices.push(LightVertex { bsdf, p: s.p, p_err: s.p_err, ng: s.ng, beta, mis: w, length });
                 }
                 if self.keep_merge {
-                    let ng = if s.ng.dot(wo) >= 0.0 { s.ng } else { -s.ng };
-                    out.merge.push(MergeVertex { p: s.p, wo, ng, beta, dvcm: w.dvcm, dvm: w.dvm, length });
+                    out.merge.push(MergeVertex { p: s.p, wo, ng: s.ng, beta, dvcm: w.dvcm, dvm: w.dvm, length });
                 }
                 if self.to_camera && length < self.max_segments {
                     self.connect_to_camera(&s, &bsdf, wo, beta, &w, &mut out.splats);
@@ -261,12 +258,8 @@ impl LightPass<'_> {
                 }
                 // The camera's density of this point (per unit film area, pixel `(px, py)`'s filter).
                 let cam_pdf_a = ray_pdf * density * cos_geo / dist2;
-                let weight = if self.light_only {
-                    1.0
-                } else {
-                    let w_light = mis.m(cam_pdf_a / n_light) * (mis.vm + w.dvcm + w.dvc * mis.m(rev));
-                    1.0 / (1.0 + w_light)
-                };
+                let weight =
+                    if self.light_only { 1.0 } else { weights::light_tracing(mis, w, cam_pdf_a, n_light, rev) };
                 let c = beta * f * (weight * cos_shading * ray_pdf * density / (dist2 * n_light));
                 if c.is_finite() && c.max_element() > 0.0 {
                     splats.push((py * cam.width + px, c));

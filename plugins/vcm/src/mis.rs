@@ -64,6 +64,26 @@ pub struct Partial {
 }
 
 impl Partial {
+    /// A camera subpath at the eye, whose ray the camera chose with density `cam_pdf` (per unit film area, the
+    /// pixel filter's density included), against `light_paths` light paths [tech. rep. (31)-(33)]; completed at
+    /// the first hit by [`Partial::arrive`].
+    #[inline(always)]
+    pub fn camera(mis: &Mis, light_paths: f32, cam_pdf: f32) -> Self {
+        Partial { dvcm: mis.m(light_paths / cam_pdf), dvc: 0.0, dvm: 0.0 }
+    }
+
+    /// A light subpath leaving its light with densities `pdfs` and geometric cosine `cos_light` at the light (1 for
+    /// delta and infinitely distant lights) [tech. rep. (31)-(33), (48)-(50)]; completed at the first hit.
+    #[inline(always)]
+    pub fn light(mis: &Mis, pdfs: &LightPdfs, cos_light: f32) -> Self {
+        let mut w = Partial { dvcm: mis.m(pdfs.nee / pdfs.emission), ..Partial::default() };
+        if !pdfs.delta {
+            w.dvc = mis.m(cos_light / pdfs.emission);
+        }
+        w.dvm = w.dvc * mis.vc;
+        w
+    }
+
     /// At a new vertex reached over `dist` with geometric cosine `cos_in`: the area conversion of the segment
     /// [tech. rep. (31)-(36)], completed here (`dist` is not applied for the first segment from a light at
     /// infinity).
