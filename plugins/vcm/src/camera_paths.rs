@@ -74,8 +74,8 @@ impl CameraPass<'_> {
     }
 
     /// The camera path of pixel `(x, y)`: its estimate of the pixel for this iteration (light tracing's splats
-    /// excluded).
-    pub fn trace_pixel(&self, x: u32, y: u32) -> Vec3 {
+    /// excluded), and the connections to light vertices it tried.
+    pub fn trace_pixel(&self, x: u32, y: u32) -> (Vec3, u32) {
         let (scene, s, mis) = (self.scene, self.settings, &self.mis);
         let cam = &scene.camera;
         let pixel = y as u64 * s.width as u64 + x as u64;
@@ -86,7 +86,7 @@ impl CameraPass<'_> {
         let mut ray = cam.generate_ray(Vec2::new(x as f32 + 0.5, y as f32 + 0.5) + offset);
         let cam_pdf = cam.ray_pdf(ray.dir) * s.filter.density(offset);
         if !(cam_pdf > 0.0 && cam_pdf.is_finite()) {
-            return Vec3::ZERO;
+            return (Vec3::ZERO, 0);
         }
         let n_light = self.light_paths as f32;
         // [tech. rep. (31)-(33)], completed at the first hit.
@@ -96,6 +96,7 @@ impl CameraPass<'_> {
         let mut origin = ray.origin;
         let partner = self.light_path(pixel % self.light_paths.max(1));
         let mut bsdf = Bsdf::new(Frame::from_normal(Vec3A::Z), Vec3A::Z, Vec3A::Z);
+        let mut tried = 0u32;
         loop {
             let (u_choice, u_light) = (sampler.next_1d(), sampler.next_2d());
             let (u_lobe, u_bsdf, u_rr) = (sampler.next_1d(), sampler.next_2d(), sampler.next_1d());
@@ -127,6 +128,7 @@ impl CameraPass<'_> {
                         if lv.length + length + 1 > self.max_segments {
                             break;
                         }
+                        tried += 1;
                         color += beta * lv.beta * self.connect(&hit, &bsdf, &w, lv);
                     }
                 }
@@ -153,7 +155,7 @@ impl CameraPass<'_> {
             ray = hit.spawn(bs.wi);
             length += 1;
         }
-        color
+        (color, tried)
     }
 
     /// What a camera path leaving the scene in direction `dir` after `length` segments sees, MIS-weighted: the

@@ -64,6 +64,14 @@
 //! - **Resumable and shardable** by passes like `envlight`: the state of an iteration is its index alone (the radius
 //!   follows from it), so `--resume` and `--shard K/N` + `prism merge` give the same bytes as one render.
 //!
+//! ## Measured
+//!
+//! Equal-time errors of every integrator on a spot-light caustic through glass, a glossy interior, Bitterli's
+//! veach-bidir, a room lit through a slit and the two Mitsuba 3 boxes, with the rule of thumb they give: the
+//! [plugins overview](overview.md#which-integrator-for-which-scene); the pictures, error maps and error-against-time
+//! charts: the [report](../report/index.html) (its stability section's "Bidirectional methods" cases). Throughput
+//! and thread scaling: the README's headline numbers. The status line counts light vertices and connections.
+//!
 //! ## Failure modes
 //!
 //! - **A camera that is not a pinhole** (thin lens, orthographic): a one-line error. Light tracing connects light
@@ -142,7 +150,13 @@ pub struct Vcm {
     merge: Vec<Vec<MergeVertex>>,
     grid: PointHashGrid<MergeVertex>,
     sums: Vec<FixedRgb>,
+    /// Connections tried per row of the last iteration (summed into `connections`).
+    row_connections: Vec<u64>,
     iterations: u64,
+    /// Light-path vertices stored for connections or merging, over the render.
+    light_vertices: u64,
+    /// Camera-vertex to light-vertex connections tried (shadow ray or not), over the render.
+    connections: u64,
 }
 
 /// Pixel-centre rays per side of the grid whose median hit distance sets the default radius.
@@ -160,7 +174,10 @@ impl Vcm {
             merge: Vec::new(),
             grid: PointHashGrid::default(),
             sums: Vec::new(),
+            row_connections: Vec::new(),
             iterations: 0,
+            light_vertices: 0,
+            connections: 0,
         }
     }
 
@@ -227,6 +244,7 @@ impl Vcm {
         if !pass.trace(&mut self.chunks, cancel) {
             return false;
         }
+        let stored: u64 = self.chunks.iter().map(|c| c.vertices.len().max(c.merge.len()) as u64).sum();
         if p.merges() {
             self.merge.resize_with(self.chunks.len(), Vec::new);
             for (m, c) in self.merge.iter_mut().zip(self.chunks.iter_mut()) {
@@ -252,14 +270,20 @@ impl Vcm {
             vm_norm: 1.0 / (std::f32::consts::PI * radius * radius * n_light as f32),
         };
         let mut own = vec![FixedRgb::default(); self.sums.len()];
-        own.par_chunks_mut(w).enumerate().with_max_len(1).for_each(|(y, row)| {
-            if cancel.load(Ordering::Relaxed) {
-                return;
-            }
-            for (x, out) in row.iter_mut().enumerate() {
-                out.add_sample(camera.trace_pixel(x as u32, y as u32));
-            }
-        });
+        self.row_connections.resize(settings.height as usize, 0);
+        own.par_chunks_mut(w).zip(self.row_connections.par_iter_mut()).enumerate().with_max_len(1).for_each(
+            |(y, (row, tried))| {
+                *tried = 0;
+                if cancel.load(Ordering::Relaxed) {
+                    return;
+                }
+                for (x, out) in row.iter_mut().enumerate() {
+                    let (c, n) = camera.trace_pixel(x as u32, y as u32);
+                    out.add_sample(c);
+                    *tried += n as u64;
+                }
+            },
+        );
         if cancel.load(Ordering::Relaxed) {
             return false;
         }
@@ -270,6 +294,8 @@ impl Vcm {
         }
         self.sums.par_iter_mut().zip(own.par_iter()).for_each(|(s, o)| s.add(*o));
         self.iterations += 1;
+        self.connections += self.row_connections.iter().sum::<u64>();
+        self.light_vertices += stored;
         true
     }
 }
@@ -306,6 +332,8 @@ impl Integrator for Vcm {
         }
         self.sums = vec![FixedRgb::default(); pixels as usize];
         self.iterations = 0;
+        self.light_vertices = 0;
+        self.connections = 0;
         Ok(())
     }
 
@@ -341,9 +369,11 @@ impl Integrator for Vcm {
 
     fn status(&self) -> Option<String> {
         Some(format!(
-            "{} iterations, {:.1} M light paths",
+            "{} iterations, {:.1} M light paths, {:.1} M light vertices, {:.1} M connections",
             self.iterations,
-            (self.iterations * self.light_paths) as f64 / 1e6
+            (self.iterations * self.light_paths) as f64 / 1e6,
+            self.light_vertices as f64 / 1e6,
+            self.connections as f64 / 1e6
         ))
     }
 }
