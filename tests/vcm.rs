@@ -2,7 +2,8 @@
 //! each strategy set alone converges to the path tracer's Cornell box (light tracing alone, connections alone,
 //! merging alone, all of them: the MIS weights of the strategies used partition every path, so each set is
 //! unbiased, and merging's bias shrinks with the radius); the BSDF's reverse density is the forward density of the
-//! BSDF seen from the other side; bit-identical images across thread counts; a camera with a lens and bad
+//! BSDF seen from the other side; bit-identical images across thread counts; a thin lens converges to the path tracer's depth of field; an
+//! orthographic camera and bad
 //! parameters are one-line errors. (The near-specular furnace is in `near_specular`; resumes and shards in
 //! `resume`.)
 
@@ -117,10 +118,39 @@ fn vcm_is_bit_identical_across_thread_counts() {
 }
 
 #[test]
-fn a_lens_camera_and_bad_vcm_parameters_are_one_line_errors() {
-    let mut app = app_from_file(&scene_path("dof.ron"), with("vcm", 1, 16));
-    let err = app.run().expect_err("a lens camera").to_string();
-    assert!(err.contains("pinhole") && !err.contains('\n'), "{err}");
+fn a_thin_lens_converges_to_the_path_tracers_depth_of_field() {
+    // Light vertices are connected to lens points of their own; the camera's density of a point is its ray's
+    // density per unit film area from whichever lens point: light tracing alone, connections and merging all
+    // converge to the path tracer's image of the thin-lens Cornell box.
+    // A wide aperture focused in front of the box, so the whole box is blurred over many pixels at this size.
+    let text = std::fs::read_to_string(scene_path("dof.ron"))
+        .unwrap()
+        .replace("aperture_radius: 0.06, focus_distance: 3.4", "aperture_radius: 0.3, focus_distance: 1.5");
+    assert!(text.contains("aperture_radius: 0.3"));
+    let size = 48;
+    let reference = crate::common::render_ron(&text, with("envlight(max_depth: 8)", 2048, size));
+    for (mode, tol) in [("light", 0.015), ("bdpt", 0.015), ("vcm", 0.015)] {
+        let img = crate::common::render_ron(&text, with(&format!("vcm(mode: {mode}, max_depth: 8)"), 256, size));
+        let (m, r) = (mean(&img), mean(&reference));
+        let rel = ((m - r) / r).abs().max_element();
+        assert!(rel < tol, "vcm(mode: {mode}) through a thin lens: mean {m}, path tracer {r}");
+        // The blur is the lens's: the picture matches the path tracer's pixel by pixel up to noise (the
+        // whole box is out of focus), not only in its mean.
+        let err: f64 = img.pixels.iter().zip(&reference.pixels).map(|(a, b)| (*a - *b).length_squared() as f64).sum();
+        let rmse = (err / (3.0 * img.pixels.len() as f64)).sqrt();
+        assert!(rmse < 0.05, "vcm(mode: {mode}) through a thin lens: RMSE {rmse} against the path tracer");
+    }
+}
+
+#[test]
+fn an_orthographic_camera_and_bad_vcm_parameters_are_one_line_errors() {
+    let text = std::fs::read_to_string(scene_path("cornell_box.ron"))
+        .unwrap()
+        .replace("size: (256, 256)", "size: (256, 256), orthographic: Some(2)");
+    assert!(text.contains("orthographic"));
+    let mut app = crate::common::app_from_ron(&text, with("vcm", 1, 16));
+    let err = app.run().expect_err("an orthographic camera").to_string();
+    assert!(err.contains("orthographic") && !err.contains('\n'), "{err}");
     for (spec, needle) in [
         ("vcm(alpha: 0)", "alpha"),
         ("vcm(alpha: 1.5)", "alpha"),

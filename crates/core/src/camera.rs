@@ -231,10 +231,14 @@ impl CameraRig {
         if self.ortho { per_pixel } else { per_pixel * distance }
     }
 
-    /// True for a pinhole perspective camera (no lens, not orthographic): the one camera a light path can be
-    /// connected to ([`CameraRig::project`]).
+    /// True for a pinhole perspective camera (no lens, not orthographic).
     pub fn is_pinhole(&self) -> bool {
         !self.ortho && !self.has_lens()
+    }
+
+    /// True for an orthographic camera (its rays are parallel: no eye point a light path could be connected to).
+    pub fn is_orthographic(&self) -> bool {
+        self.ortho
     }
 
     /// Distance from a pinhole to the image plane on which a pixel has area 1: the plane where film positions are
@@ -269,18 +273,52 @@ impl CameraRig {
         if !(z > 0.0 && z.is_finite()) {
             return None;
         }
-        let (x, y) = (d.dot(self.right) / z, d.dot(self.up) / z);
+        let film = self.film_of(d.dot(self.right) / z, d.dot(self.up) / z)?;
+        let dist = d.length();
+        let to_eye = -d / dist;
+        Some((film, to_eye, dist, self.ray_pdf(-to_eye)))
+    }
+
+    /// The film position (pixels) of image-plane coordinates `(x, y)` (the inverse of `plane`), `None` off the film.
+    #[inline]
+    fn film_of(&self, x: f32, y: f32) -> Option<Vec2> {
         let [x0, y0, ..] = self.window;
         let film = Vec2::new(
             ((0.5 * (x / self.half_w + 1.0)) - x0) / self.film_scale[0],
             ((0.5 * (1.0 - y / self.half_h)) - y0) / self.film_scale[1],
         );
-        if !(film.x >= 0.0 && film.y >= 0.0 && film.x < self.width as f32 && film.y < self.height as f32) {
+        (film.x >= 0.0 && film.y >= 0.0 && film.x < self.width as f32 && film.y < self.height as f32).then_some(film)
+    }
+
+    /// [`CameraRig::project`] for a pinhole or a thin lens, seen from the lens point that `u_lens` picks (the
+    /// concentric map of [`CameraRig::generate_ray_lens`]): the film position whose ray from that lens point passes
+    /// through `p` (where the segment crosses the plane of focus, as a pinhole direction), the unit direction from `p`
+    /// to the lens point, the distance, [`CameraRig::ray_pdf`] of that ray's direction, and the lens point. For a
+    /// thin lens `ray_pdf` of the actual direction is still the ray's density per unit film area (film to focus
+    /// plane to direction from the lens point has Jacobian `cos^3`, as for a pinhole); the lens point's own density
+    /// is the same for every strategy and cancels. `None` for orthographic cameras.
+    pub fn project_lens(&self, p: Vec3A, u_lens: Vec2) -> Option<(Vec2, Vec3A, f32, f32, Vec3A)> {
+        if self.ortho {
             return None;
         }
+        if !self.has_lens() {
+            return self.project(p).map(|(film, to_eye, dist, pdf)| (film, to_eye, dist, pdf, self.eye));
+        }
+        let a = concentric_disk(u_lens) * self.aperture_radius;
+        let offset = self.right * a.x + self.up * a.y;
+        let lens = self.eye + offset;
+        let d = p - lens;
+        let z = d.dot(self.forward);
+        if !(z > 0.0 && z.is_finite()) {
+            return None;
+        }
+        // The segment meets the plane of focus at `eye + q`; `q`'s depth is the focus distance.
+        let q = offset + d * (self.focus_distance / z);
+        let depth = q.dot(self.forward);
+        let film = self.film_of(q.dot(self.right) / depth, q.dot(self.up) / depth)?;
         let dist = d.length();
         let to_eye = -d / dist;
-        Some((film, to_eye, dist, self.ray_pdf(-to_eye)))
+        Some((film, to_eye, dist, self.ray_pdf(-to_eye), lens))
     }
 
     /// The eye (pinhole or lens centre), world space.

@@ -14,7 +14,7 @@
 //! chains from the eye (everything else is merging's).
 //!
 //! Pixel `i`'s path of iteration `k` draws its numbers from the pixel's sampler at sample index `k` (the pixel
-//! position first, then five per vertex: light choice, light point, lobe, direction, roulette), so pixel positions
+//! position first (then the lens point, for a thin lens), then five per vertex: light choice, light point, lobe, direction, roulette), so pixel positions
 //! are stratified over iterations and the path does not depend on any other pixel's.
 
 use glam::{Vec2, Vec3, Vec3A};
@@ -83,7 +83,9 @@ impl CameraPass<'_> {
         let mut sampler = Sampler::new(s.sampler, key, Rng::for_pixel(s.seed, pixel, 0));
         sampler.start(self.iteration as u32);
         let offset = s.filter.warp(sampler.next_2d());
-        let mut ray = cam.generate_ray(Vec2::new(x as f32 + 0.5, y as f32 + 0.5) + offset);
+        let film = Vec2::new(x as f32 + 0.5, y as f32 + 0.5) + offset;
+        let mut ray =
+            if cam.has_lens() { cam.generate_ray_lens(film, sampler.next_2d()) } else { cam.generate_ray(film) };
         let cam_pdf = cam.ray_pdf(ray.dir) * s.filter.density(offset);
         if !(cam_pdf > 0.0 && cam_pdf.is_finite()) {
             return (Vec3::ZERO, 0);

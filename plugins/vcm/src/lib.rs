@@ -74,8 +74,10 @@
 //!
 //! ## Failure modes
 //!
-//! - **A camera that is not a pinhole** (thin lens, orthographic): a one-line error. Light tracing connects light
-//!   vertices to the eye point, which such cameras do not have; `envlight` and `ppm` render them.
+//! - **An orthographic camera**: a one-line error (light tracing connects light vertices to the eye, or to a point
+//!   of a thin lens, which parallel rays do not have); `envlight` and `ppm` render it. Thin lenses work: each light
+//!   vertex is connected to a lens point of its own, and the camera's density of a point is its ray's density per
+//!   unit film area whichever lens point the ray leaves from.
 //! - **Radius far too small**: merging is noisy but its MIS weight falls with the radius, so connections take over;
 //!   the image mean stays right. **Far too large**: merged light blurred at first, shrinking with the radius.
 //! - **Walls thinner than the radius** do not leak: a light vertex is merged only with camera vertices on surfaces
@@ -302,10 +304,10 @@ impl Vcm {
 
 impl Integrator for Vcm {
     fn prepare(&mut self, scene: &Scene, settings: &RenderSettings) -> Result<()> {
-        if !scene.camera.is_pinhole() {
+        if scene.camera.is_orthographic() {
             return Err(PrismError::invalid(
-                "vcm: light tracing connects light paths to a pinhole perspective camera; this scene's camera has a \
-                 lens or is orthographic (render it with envlight or ppm)",
+                "vcm: light tracing connects light paths to the camera's eye or lens, which an orthographic camera \
+                 does not have (render it with envlight or ppm)",
             ));
         }
         let pixels = settings.width as u64 * settings.height as u64;

@@ -9,7 +9,7 @@
 //!
 //! Path `j` of iteration `k` draws its numbers from the sampler keyed by (seed, k), sample index `j`: light
 //! choice, origin and direction first (stratified over the iteration's paths), then (lobe, direction, roulette) per
-//! bounce. Paths are traced in fixed chunks in parallel; vertices and splats are kept in chunk order, and splats
+//! bounce (and a lens point before them at each vertex connected to a thin lens). Paths are traced in fixed chunks in parallel; vertices and splats are kept in chunk order, and splats
 //! are summed in fixed point, so the iteration's result does not depend on the thread count.
 
 use glam::{Vec2, Vec3, Vec3A};
@@ -187,7 +187,9 @@ impl LightPass<'_> {
                     out.merge.push(MergeVertex { p: s.p, wo, ng: s.ng, beta, dvcm: w.dvcm, dvm: w.dvm, length });
                 }
                 if self.to_camera && length < self.max_segments {
-                    self.connect_to_camera(&s, &bsdf, wo, beta, &w, &mut out.splats);
+                    // A thin lens's point is drawn only where there is a lens (a pinhole's numbers stay as they are).
+                    let u_lens = if scene.camera.has_lens() { sampler.next_2d() } else { Vec2::ZERO };
+                    self.connect_to_camera(&s, &bsdf, u_lens, beta, &w, &mut out.splats);
                 }
             }
             if length + 2 > self.max_segments {
@@ -222,20 +224,20 @@ impl LightPass<'_> {
         }
     }
 
-    /// Light tracing from the vertex `s` (BSDF `bsdf`, light from `wo`): the splats on the pixels whose filter
-    /// covers its projection [tech. rep. (46)].
+    /// Light tracing from the vertex `s` (BSDF `bsdf`) to the eye, or to the point of a thin lens that `u_lens`
+    /// picks: the splats on the pixels whose filter covers its projection [tech. rep. (46)].
     fn connect_to_camera(
         &self,
         s: &SurfaceHit,
         bsdf: &prism_core::bsdf::Bsdf,
-        _wo: Vec3A,
+        u_lens: Vec2,
         beta: Vec3,
         w: &Partial,
         splats: &mut Vec<(u32, Vec3)>,
     ) {
         let scene = self.scene;
         let cam = &scene.camera;
-        let Some((film, to_eye, dist, ray_pdf)) = cam.project(s.p) else { return };
+        let Some((film, to_eye, dist, ray_pdf, eye)) = cam.project_lens(s.p, u_lens) else { return };
         let f = bsdf.eval_mode(to_eye, TransportMode::Importance);
         if f == Vec3::ZERO {
             return;
@@ -267,7 +269,7 @@ impl LightPass<'_> {
             }
         }
         if splats.len() > first {
-            let ray = s.spawn_to(cam.eye(), Vec3A::ZERO, Vec3A::ZERO);
+            let ray = s.spawn_to(eye, Vec3A::ZERO, Vec3A::ZERO);
             if scene.occluded(&ray) {
                 splats.truncate(first);
             }

@@ -174,8 +174,7 @@ impl SceneWide {
                         };
                         if let Some(spec) = bidirectional {
                             c.warn(format!(
-                                "Integrator \"{ty}\" renders with {spec}) (envlight where the camera has a lens or \
-                                 is orthographic)"
+                                "Integrator \"{ty}\" renders with {spec}) (envlight where the camera is orthographic)"
                             ));
                         } else if ty != "path" && ty != "volpath" && ty != "simplepath" {
                             c.warn(format!(
@@ -316,9 +315,9 @@ impl SceneWide {
         out.push_str("),\n    render: (");
         let (mut integrator, iterations) =
             self.integrator.clone().unwrap_or_else(|| ("envlight(max_depth: 6)".into(), None));
-        // `vcm` connects light paths to a pinhole: other cameras are path traced.
+        // `vcm` connects light paths to the eye or a lens point: orthographic cameras are path traced.
         if let Some(fallback) = &self.path_fallback
-            && (self.ortho || self.lens_radius > 0.0)
+            && self.ortho
         {
             integrator = fallback.clone();
         }
