@@ -23,6 +23,13 @@ fn mean(img: &Image) -> Vec3 {
     (s / img.pixels.len() as f64).as_vec3()
 }
 
+/// The text of `scenes/NAME` with `from` replaced by `to` (which must occur: the edit is what the test is about).
+fn edited_scene(name: &str, from: &str, to: &str) -> String {
+    let text = std::fs::read_to_string(scene_path(name)).unwrap();
+    assert!(text.contains(from), "{name} no longer contains {from:?}");
+    text.replace(from, to)
+}
+
 #[test]
 fn every_strategy_set_converges_to_the_path_tracers_cornell_box() {
     let scene = scene_path("cornell_box.ron");
@@ -51,10 +58,11 @@ fn light_a_rough_glass_sphere_transmits_is_merged_on_either_side_of_its_surface(
     // Merging at a rough dielectric's surface takes light that arrived from inside as well as from outside: the
     // MIS weights count merging there, so refusing it (as for the far face of a thin wall) loses that share of
     // the transmitted light (0.8-0.9% of this image).
-    let text = std::fs::read_to_string(scene_path("cornell_caustic.ron"))
-        .unwrap()
-        .replace(r#""glass": Glass(ior: 1.5)"#, r#""glass": RoughDielectric(alpha: 0.3, ior: 1.5)"#);
-    assert!(text.contains("RoughDielectric"));
+    let text = edited_scene(
+        "cornell_caustic.ron",
+        r#""glass": Glass(ior: 1.5)"#,
+        r#""glass": RoughDielectric(alpha: 0.3, ior: 1.5)"#,
+    );
     let reference = mean(&crate::common::render_ron(&text, with("envlight(max_depth: 12)", 2048, 48)));
     let m = mean(&crate::common::render_ron(&text, with("vcm(max_depth: 12)", 256, 48)));
     let rel = ((m - reference) / reference).abs().max_element();
@@ -123,10 +131,11 @@ fn a_thin_lens_converges_to_the_path_tracers_depth_of_field() {
     // density per unit film area from whichever lens point: light tracing alone, connections and merging all
     // converge to the path tracer's image of the thin-lens Cornell box.
     // A wide aperture focused in front of the box, so the whole box is blurred over many pixels at this size.
-    let text = std::fs::read_to_string(scene_path("dof.ron"))
-        .unwrap()
-        .replace("aperture_radius: 0.06, focus_distance: 3.4", "aperture_radius: 0.3, focus_distance: 1.5");
-    assert!(text.contains("aperture_radius: 0.3"));
+    let text = edited_scene(
+        "dof.ron",
+        "aperture_radius: 0.06, focus_distance: 3.4",
+        "aperture_radius: 0.3, focus_distance: 1.5",
+    );
     let size = 48;
     let reference = crate::common::render_ron(&text, with("envlight(max_depth: 8)", 2048, size));
     for (mode, tol) in [("light", 0.015), ("bdpt", 0.015), ("vcm", 0.015)] {
@@ -144,10 +153,7 @@ fn a_thin_lens_converges_to_the_path_tracers_depth_of_field() {
 
 #[test]
 fn an_orthographic_camera_and_bad_vcm_parameters_are_one_line_errors() {
-    let text = std::fs::read_to_string(scene_path("cornell_box.ron"))
-        .unwrap()
-        .replace("size: (256, 256)", "size: (256, 256), orthographic: Some(2)");
-    assert!(text.contains("orthographic"));
+    let text = edited_scene("cornell_box.ron", "size: (256, 256)", "size: (256, 256), orthographic: Some(2)");
     let mut app = crate::common::app_from_ron(&text, with("vcm", 1, 16));
     let err = app.run().expect_err("an orthographic camera").to_string();
     assert!(err.contains("orthographic") && !err.contains('\n'), "{err}");
