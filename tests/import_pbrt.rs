@@ -190,15 +190,53 @@ fn materials_map_to_prism_with_each_versions_roughness_remapping() {
     );
     assert!(matches!(material(&d, "named:x"), MaterialDesc::Blend { weight: ScalarDesc::Value(w), .. } if *w == 0.25));
     let v4 = format!(
-        "{HEAD_V4}WorldBegin\nMakeNamedMaterial \"c\" \"string type\" \"coateddiffuse\" \"float roughness\" 0.04\n"
+        "{HEAD_V4}WorldBegin\nMakeNamedMaterial \"c\" \"string type\" \"coateddiffuse\" \"float roughness\" 0.04 \
+         \"integer maxdepth\" 7 \"rgb albedo\" [0.1 0.2 0.3] \"float thickness\" 0.2\n\
+         MakeNamedMaterial \"k\" \"string type\" \"coatedconductor\" \"float interface.roughness\" 0.09 \
+         \"float interface.eta\" 1.3 \"float conductor.roughness\" 0.16 \"spectrum conductor.eta\" \"metal-Au-eta\" \
+         \"spectrum conductor.k\" \"metal-Au-k\"\n"
     );
     let ron = ron_of(&write("mat4.pbrt", &v4));
-    match material(&desc(&ron), "named:c") {
-        MaterialDesc::RoughPlastic { alpha: ScalarDesc::Value(a), .. } => {
-            assert!((a - 0.2).abs() < 1e-6, "pbrt-v4: sqrt(0.04), got {a}")
+    let d = desc(&ron);
+    match material(&d, "named:c") {
+        MaterialDesc::CoatedDiffuse {
+            alpha: ScalarDesc::Value(a),
+            max_depth: 7,
+            samples: 1,
+            thickness,
+            albedo,
+            ior,
+            ..
+        } => {
+            assert!((a - 0.2).abs() < 1e-6, "pbrt-v4: sqrt(0.04), got {a}");
+            assert!((thickness - 0.2).abs() < 1e-6 && (ior - 1.5).abs() < 1e-6);
+            assert_eq!(*albedo, prism::load::schema::ColorDesc::Rgb([0.1, 0.2, 0.3]));
         }
         other => panic!("{other:?}"),
     }
+    match material(&d, "named:k") {
+        MaterialDesc::CoatedConductor {
+            alpha: ScalarDesc::Value(a),
+            conductor_alpha: ScalarDesc::Value(ca),
+            ior,
+            material: Some(m),
+            thickness,
+            ..
+        } => {
+            assert!((a - 0.3).abs() < 1e-6 && (ca - 0.4).abs() < 1e-6, "sqrt of both roughnesses: {a}, {ca}");
+            assert!((ior - 1.3).abs() < 1e-6 && m == "Au" && (thickness - 0.01).abs() < 1e-6);
+        }
+        other => panic!("{other:?}"),
+    }
+    // A walk limit beyond the bound is refused at its line.
+    let bad = format!(
+        "{HEAD_V4}WorldBegin\nMakeNamedMaterial \"c\" \"string type\" \"coateddiffuse\" \"integer maxdepth\" 100000\n"
+    );
+    let Err(err) = convert_file(&write("mat5.pbrt", &bad), std::path::Path::new(".")) else {
+        panic!("maxdepth 100000 is refused")
+    };
+    let err = err.to_string();
+    assert!(err.contains("maxdepth must be in 1..=100") && err.contains("mat5.pbrt:"), "{err}");
 }
 
 #[test]

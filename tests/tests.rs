@@ -32,6 +32,7 @@ mod import_gltf;
 mod import_pbrt;
 mod import_ply;
 mod io;
+mod layered_bsdf;
 mod layers;
 mod lights;
 mod microfacet;

@@ -37,6 +37,18 @@ fn scalar_one() -> ScalarDesc {
 fn default_alpha() -> ScalarDesc {
     ScalarDesc::Value(0.1)
 }
+fn scalar_zero() -> ScalarDesc {
+    ScalarDesc::Value(0.0)
+}
+fn thickness() -> f32 {
+    0.01
+}
+fn max_depth() -> u32 {
+    10
+}
+fn one() -> u32 {
+    1
+}
 fn uv_one() -> [f32; 2] {
     [1.0, 1.0]
 }
@@ -250,6 +262,56 @@ pub enum MaterialDesc {
         specular: ColorDesc,
         #[serde(default = "yes")]
         two_sided: bool,
+    },
+    /// pbrt-v4's `coateddiffuse`: a Lambertian base of `reflectance` under a dielectric coat of GGX width `alpha`
+    /// and index `ior`, with a medium of `thickness` (mean free paths), single-scattering `albedo` and
+    /// Henyey–Greenstein `g` between them, evaluated by random walks of at most `max_depth` events (`samples`
+    /// walks per value).
+    CoatedDiffuse {
+        #[serde(default = "half3")]
+        reflectance: ColorDesc,
+        #[serde(default = "scalar_zero")]
+        alpha: ScalarDesc,
+        #[serde(default = "ior_glass")]
+        ior: f32,
+        #[serde(default = "thickness")]
+        thickness: f32,
+        #[serde(default = "zero3")]
+        albedo: ColorDesc,
+        #[serde(default)]
+        g: f32,
+        #[serde(default = "max_depth")]
+        max_depth: u32,
+        #[serde(default = "one")]
+        samples: u32,
+    },
+    /// pbrt-v4's `coatedconductor`: a GGX conductor of width `conductor_alpha` (a named metal, `eta` with `k`, or a
+    /// `reflectance`; copper by default, as in pbrt) under the coat of `CoatedDiffuse`.
+    CoatedConductor {
+        #[serde(default = "scalar_zero")]
+        alpha: ScalarDesc,
+        #[serde(default = "ior_glass")]
+        ior: f32,
+        #[serde(default = "scalar_zero")]
+        conductor_alpha: ScalarDesc,
+        #[serde(default)]
+        material: Option<String>,
+        #[serde(default)]
+        eta: Option<V3>,
+        #[serde(default)]
+        k: Option<V3>,
+        #[serde(default)]
+        reflectance: Option<ColorDesc>,
+        #[serde(default = "thickness")]
+        thickness: f32,
+        #[serde(default = "zero3")]
+        albedo: ColorDesc,
+        #[serde(default)]
+        g: f32,
+        #[serde(default = "max_depth")]
+        max_depth: u32,
+        #[serde(default = "one")]
+        samples: u32,
     },
     /// `(1 - weight) a + weight b`.
     Blend { a: String, b: String, weight: ScalarDesc },

@@ -6,8 +6,9 @@
 use super::schema::{ColorDesc, MaterialDesc, ScalarDesc, ScaleDesc, TextureDesc, TextureRef, V3};
 use super::transform::compose;
 use glam::{Vec2, Vec3};
+use prism_core::bsdf::layered::{LayerBase, LayerSpec};
 use prism_core::error::{PrismError, Result};
-use prism_core::material::{ConductorSpec, Material, MaterialKind, PhongParams, Shading, metals};
+use prism_core::material::{CoatBase, ConductorSpec, Material, MaterialKind, PhongParams, Shading, metals};
 use prism_core::texture::{ColorParam, ImageMap, ScalarParam, Solid, SolidKind, TexImage, Texture};
 use prism_engine::Resources;
 use std::collections::{BTreeMap, HashMap};
@@ -296,21 +297,7 @@ fn material(name: &str, d: &MaterialDesc, c: &Ctx) -> Result<(Material, Option<(
             (Material::black(name), Some((r, *two_sided)))
         }
         MaterialDesc::RoughConductor { alpha, material, eta, k, reflectance, scale, two_sided } => {
-            let fresnel = match (material, eta, k, reflectance) {
-                (Some(m), None, None, None) => {
-                    let (eta, k) = metals::metal(m)
-                        .ok_or_else(|| c.err(format!("unknown metal '{m}' (known: {})", metals::metal_names())))?;
-                    ConductorSpec::Complex { eta, k }
-                }
-                (None, Some(eta), Some(k), None) => {
-                    ConductorSpec::Complex { eta: finite3(*eta, "eta", c)?, k: finite3(*k, "k", c)? }
-                }
-                (None, None, None, Some(r)) => ConductorSpec::Schlick(c.color(r, "reflectance")?),
-                (None, None, None, None) => ConductorSpec::Schlick(ColorParam::ONE),
-                _ => {
-                    return Err(c.err("give one of `material`, `eta` with `k`, or `reflectance`"));
-                }
-            };
+            let fresnel = conductor_spec(material, eta, k, reflectance, ConductorSpec::Schlick(ColorParam::ONE), c)?;
             let k = MaterialKind::Conductor {
                 alpha: c.scalar(alpha, "alpha (roughness)", UNIT)?,
                 fresnel,
@@ -342,6 +329,45 @@ fn material(name: &str, d: &MaterialDesc, c: &Ctx) -> Result<(Material, Option<(
                 interface: prism_core::bsdf::rough_interface::RoughInterface::get(ior, constant),
             };
             (kind(k, *two_sided), None)
+        }
+        MaterialDesc::CoatedDiffuse { reflectance, alpha, ior, thickness, albedo, g, max_depth, samples } => {
+            let spec = layer_spec(LayerBase::Diffuse, *ior, *thickness, *g, *max_depth, *samples, c)?;
+            let k = MaterialKind::Coated {
+                coat_alpha: c.scalar(alpha, "alpha (the coat's roughness)", UNIT)?,
+                base: CoatBase::Diffuse(c.color(reflectance, "reflectance")?),
+                albedo: c.color(albedo, "albedo")?,
+                spec,
+            };
+            (kind(k, true), None)
+        }
+        MaterialDesc::CoatedConductor {
+            alpha,
+            ior,
+            conductor_alpha,
+            material,
+            eta,
+            k,
+            reflectance,
+            thickness,
+            albedo,
+            g,
+            max_depth,
+            samples,
+        } => {
+            let spec = layer_spec(LayerBase::Conductor, *ior, *thickness, *g, *max_depth, *samples, c)?;
+            let (cu_eta, cu_k) = metals::metal("Cu").unwrap_or((Vec3::ONE, Vec3::ZERO));
+            let fresnel =
+                conductor_spec(material, eta, k, reflectance, ConductorSpec::Complex { eta: cu_eta, k: cu_k }, c)?;
+            let k = MaterialKind::Coated {
+                coat_alpha: c.scalar(alpha, "alpha (the coat's roughness)", UNIT)?,
+                base: CoatBase::Conductor {
+                    alpha: c.scalar(conductor_alpha, "conductor_alpha (the conductor's roughness)", UNIT)?,
+                    fresnel,
+                },
+                albedo: c.color(albedo, "albedo")?,
+                spec,
+            };
+            (kind(k, true), None)
         }
         MaterialDesc::Blend { a, b, weight } => {
             let k = MaterialKind::Blend {
@@ -376,6 +402,60 @@ fn material(name: &str, d: &MaterialDesc, c: &Ctx) -> Result<(Material, Option<(
             (kind(k, true), None)
         }
     })
+}
+
+/// A conductor's Fresnel term from a named metal, `eta` with `k`, or a reflectance (`default` when none is given).
+fn conductor_spec(
+    material: &Option<String>,
+    eta: &Option<V3>,
+    k: &Option<V3>,
+    reflectance: &Option<ColorDesc>,
+    default: ConductorSpec,
+    c: &Ctx,
+) -> Result<ConductorSpec> {
+    Ok(match (material, eta, k, reflectance) {
+        (Some(m), None, None, None) => {
+            let (eta, k) = metals::metal(m)
+                .ok_or_else(|| c.err(format!("unknown metal '{m}' (known: {})", metals::metal_names())))?;
+            ConductorSpec::Complex { eta, k }
+        }
+        (None, Some(eta), Some(k), None) => {
+            ConductorSpec::Complex { eta: finite3(*eta, "eta", c)?, k: finite3(*k, "k", c)? }
+        }
+        (None, None, None, Some(r)) => ConductorSpec::Schlick(c.color(r, "reflectance")?),
+        (None, None, None, None) => default,
+        _ => return Err(c.err("give one of `material`, `eta` with `k`, or `reflectance`")),
+    })
+}
+
+/// Most events per layered walk and walks per estimate a material may ask for (each costs every shading point).
+const MAX_LAYER_DEPTH: u32 = 100;
+const MAX_LAYER_SAMPLES: u32 = 64;
+
+/// The checked constant parameters of a coated material.
+fn layer_spec(
+    base: LayerBase,
+    ior: f32,
+    thickness: f32,
+    g: f32,
+    max_depth: u32,
+    samples: u32,
+    c: &Ctx,
+) -> Result<&'static LayerSpec> {
+    let eta = check_ior(ior, c)?;
+    if !(thickness.is_finite() && thickness > 0.0) {
+        return Err(c.err(format!("thickness must be a positive number (mean free paths), got {thickness}")));
+    }
+    if !(-1.0..=1.0).contains(&g) {
+        return Err(c.err(format!("g (the medium's Henyey-Greenstein asymmetry) must be in [-1, 1], got {g}")));
+    }
+    if !(1..=MAX_LAYER_DEPTH).contains(&max_depth) {
+        return Err(c.err(format!("max_depth must be in 1..={MAX_LAYER_DEPTH}, got {max_depth}")));
+    }
+    if !(1..=MAX_LAYER_SAMPLES).contains(&samples) {
+        return Err(c.err(format!("samples must be in 1..={MAX_LAYER_SAMPLES}, got {samples}")));
+    }
+    Ok(LayerSpec { base, eta, thickness, g, max_depth, samples }.intern())
 }
 
 fn finite3(v: V3, what: &str, c: &Ctx) -> Result<Vec3> {

@@ -12,12 +12,14 @@
 //! | `CourseRefraction` | the course's refraction: weight `t`, no Fresnel, nothing under total internal reflection (delta) |
 //! | `Conductor` | GGX `F D G / (4 wo.z wi.z)` with a conductor Fresnel term, times `scale`; smooth (delta) when alpha = 0 |
 //! | `RoughDielectric` | GGX reflection `r F D G / (4 |wo.z wi.z|)` and transmission (Walter et al. 2007) `t (1 - F) D G |wo.m| |wi.m| / (|wo.z wi.z| (wo.m + eta wi.m)^2)` (times `eta^2` for importance) |
+//! | `Layered` | pbrt-v4's stochastic layered BSDF: a dielectric coat over a diffuse or conductor base with a medium between (`layered/`); value and density are random-walk estimates, samples carry the walk's throughput |
 //! | `Plastic` | GGX dielectric coat `specular F D G / (4 wo.z wi.z)` over a diffuse base `diffuse T(wo.z) T(wi.z) / (pi eta^2 (1 - R_int))`, `T` and `R_int` the rough coat's transmittance and internal reflectance (Mitsuba 3's roughplastic; `rough_interface.rs`) |
 //!
 //! `eta` is the relative index (transmitted side over `wo`'s side). Microfacet terms: [`super::microfacet`].
 
 use super::TransportMode;
 use super::fresnel::{fresnel_conductor, fresnel_schlick};
+use super::layered::{LayerSpec, Layers};
 use super::microfacet::{ggx_d, ggx_g1, sample_visible, visible_pdf};
 use super::rough_interface::InterfaceAt;
 use crate::math::{Frame, fresnel_dielectric, luminance};
@@ -128,16 +130,54 @@ pub enum Lobe {
         /// The rough coat's transmittance `T(mu)` and internal reflectance `R_int` at `alpha`.
         coat: InterfaceAt,
     },
+    /// pbrt-v4's layered BSDF (`coateddiffuse`, `coatedconductor`): a dielectric coat over a base, evaluated
+    /// and sampled by random walks between them ([`super::layered`]).
+    Layered {
+        /// The coat's GGX width (smooth below 1e-3).
+        coat_alpha: f32,
+        /// A diffuse base's reflectance, or a conductor base's `eta` relative to the coat, per RGB channel.
+        base: Vec3,
+        /// A conductor base's `k` relative to the coat (0 for a diffuse base).
+        base_k: Vec3,
+        /// A conductor base's GGX width (smooth below 1e-3).
+        base_alpha: f32,
+        /// The medium's single-scattering albedo between coat and base (0: no medium).
+        albedo: Vec3,
+        /// Factor on the whole lobe (a blend weight).
+        scale: f32,
+        /// The material's constant parameters.
+        spec: &'static LayerSpec,
+    },
 }
 
-/// A direction drawn from one lobe; `weight` is the throughput `f |cos| / p` of delta lobes (unused otherwise).
+/// A direction drawn from one lobe; `weight` is the throughput `f |cos| / p` of delta lobes and layered walks
+/// (unused otherwise).
 #[derive(Clone, Copy, Debug)]
 pub struct LobeSample {
     /// The drawn direction, unit length, in the local shading frame.
     pub wi: Vec3A,
-    /// `f |cos| / p` per RGB channel for delta lobes; zero (and unused) for the others, whose caller evaluates
-    /// value and density itself.
+    /// `f |cos| / p` per RGB channel for delta lobes and walks; zero (and unused) for the others, whose caller
+    /// evaluates value and density itself.
     pub weight: Vec3,
+    /// True when the direction is a delta direction (a delta lobe's, or a walk that met only specular events).
+    pub delta: bool,
+    /// True when `weight` is the sample's throughput (delta lobes and layered walks): the lobe's value and
+    /// density at `wi` are estimates, not what produced the sample.
+    pub weighted: bool,
+}
+
+impl LobeSample {
+    /// A smooth lobe's direction (its caller evaluates value and density).
+    #[inline]
+    fn smooth(wi: Vec3A) -> Self {
+        LobeSample { wi, weight: Vec3::ZERO, delta: false, weighted: false }
+    }
+
+    /// A delta lobe's direction with its throughput.
+    #[inline]
+    fn delta(wi: Vec3A, weight: Vec3) -> Self {
+        LobeSample { wi, weight, delta: true, weighted: true }
+    }
 }
 
 #[inline]
@@ -174,7 +214,33 @@ impl Lobe {
         match self {
             Lobe::Mirror { .. } | Lobe::Dielectric { .. } | Lobe::CourseRefraction { .. } => true,
             Lobe::Conductor { alpha, .. } => *alpha == 0.0,
+            Lobe::Layered { .. } => self.layers().is_some_and(|l| l.is_delta()),
             _ => false,
+        }
+    }
+
+    /// The layered lobe's BSDF (`None` for other lobes).
+    #[inline]
+    pub fn layers(&self) -> Option<Layers> {
+        match *self {
+            Lobe::Layered { coat_alpha, base, base_k, base_alpha, albedo, spec, .. } => {
+                Some(Layers::new(spec, coat_alpha, base, base_k, base_alpha, albedo))
+            }
+            _ => None,
+        }
+    }
+
+    /// Probability that [`Lobe::sample`] returns a delta direction for a lobe number drawn uniformly, seen from
+    /// `wo` (local): 1 for delta lobes, the smooth coat's mirror reflection for a layered lobe, 0 otherwise. The
+    /// choice depends on the lobe number only: a lobe number below this probability gives the delta direction.
+    #[inline]
+    pub fn delta_probability(&self, wo: Vec3A) -> f32 {
+        if self.is_delta() {
+            return 1.0;
+        }
+        match self.layers() {
+            Some(l) => l.coat_mirror_probability(wo),
+            None => 0.0,
         }
     }
 
@@ -201,6 +267,9 @@ impl Lobe {
             Lobe::RoughDielectric { alpha, r, t, eta } => Lobe::RoughDielectric { alpha, r: r * w, t: t * w, eta },
             Lobe::Plastic { alpha, eta, diffuse, specular, coat } => {
                 Lobe::Plastic { alpha, eta, diffuse: diffuse * w, specular: specular * w, coat }
+            }
+            Lobe::Layered { coat_alpha, base, base_k, base_alpha, albedo, scale, spec } => {
+                Lobe::Layered { coat_alpha, base, base_k, base_alpha, albedo, scale: scale * w, spec }
             }
         }
     }
@@ -246,6 +315,15 @@ impl Lobe {
             Lobe::Plastic { eta, diffuse, specular, .. } => {
                 let f = fresnel_dielectric(wo.z, *eta);
                 f * luminance(*specular) + (1.0 - f) * luminance(*diffuse)
+            }
+            // About the coat's reflection plus what the base returns through it.
+            Lobe::Layered { base, scale, spec, .. } => {
+                let f = fresnel_dielectric(wo.z.abs(), spec.eta);
+                let b = match spec.base {
+                    super::layered::LayerBase::Diffuse => luminance(*base),
+                    super::layered::LayerBase::Conductor => 1.0,
+                };
+                *scale * (f + (1.0 - f) * b)
             }
         };
         if w.is_finite() { w.max(0.0) } else { 0.0 }
@@ -298,6 +376,10 @@ impl Lobe {
                 let t = coat.transmittance(wo.z) * coat.transmittance(wi.z);
                 specular * fs + diffuse * (t * FRAC_1_PI / (eta * eta * (1.0 - coat.internal_reflectance())))
             }
+            Lobe::Layered { scale, .. } => match self.layers() {
+                Some(l) if wo.z * wi.z > 0.0 => l.f(wo, wi, mode) * scale,
+                _ => Vec3::ZERO,
+            },
         }
     }
 
@@ -367,6 +449,11 @@ impl Lobe {
                 let h = (wo + wi).normalize();
                 ps * visible_pdf(wo, h, alpha) / (4.0 * wo.dot(h)) + (1.0 - ps) * warp::cosine_hemisphere_pdf(wi)
             }
+            // The walk's density estimate is that of radiance transport either way.
+            Lobe::Layered { .. } => match self.layers() {
+                Some(l) if wo.z * wi.z > 0.0 => l.pdf(wo, wi, TransportMode::Radiance),
+                _ => 0.0,
+            },
         }
     }
 
@@ -377,32 +464,32 @@ impl Lobe {
         if wo.z <= 0.0 && !matches!(self, Lobe::Dielectric { .. } | Lobe::CourseRefraction { .. }) {
             return None;
         }
-        let dir = |wi: Vec3A| Some(LobeSample { wi, weight: Vec3::ZERO });
+        let dir = |wi: Vec3A| Some(LobeSample::smooth(wi));
         match *self {
             Lobe::Diffuse { .. } => dir(warp::cosine_hemisphere(u)),
             Lobe::Phong { exponent, .. } | Lobe::Blinn6837 { exponent, .. } => {
                 dir(Frame::from_normal(reflect_z(wo)).to_world(warp::phong_lobe(u, exponent)))
             }
-            Lobe::Mirror { r } => Some(LobeSample { wi: reflect_z(wo), weight: r }),
+            Lobe::Mirror { r } => Some(LobeSample::delta(reflect_z(wo), r)),
             Lobe::Dielectric { r, t, eta } => {
                 let f = fresnel_dielectric(wo.z.abs(), eta);
                 if uc < f {
-                    return Some(LobeSample { wi: reflect_z(wo), weight: r });
+                    return Some(LobeSample::delta(reflect_z(wo), r));
                 }
                 let wi = crate::math::refract(wo, Vec3A::Z, eta)?.normalize();
                 let scale = match mode {
                     TransportMode::Radiance => 1.0 / (eta * eta),
                     TransportMode::Importance => 1.0,
                 };
-                Some(LobeSample { wi, weight: t * scale })
+                Some(LobeSample::delta(wi, t * scale))
             }
             Lobe::CourseRefraction { t, eta } => {
                 let wi = crate::math::refract(wo, Vec3A::Z, eta)?.normalize();
-                Some(LobeSample { wi, weight: t })
+                Some(LobeSample::delta(wi, t))
             }
             Lobe::Conductor { alpha, fresnel, scale } => {
                 if alpha == 0.0 {
-                    return Some(LobeSample { wi: reflect_z(wo), weight: fresnel.eval(wo.z) * scale });
+                    return Some(LobeSample::delta(reflect_z(wo), fresnel.eval(wo.z) * scale));
                 }
                 let m = sample_visible(wo, alpha, u);
                 dir(reflect_about(wo, m))
@@ -424,6 +511,10 @@ impl Lobe {
                 } else {
                     dir(warp::cosine_hemisphere(u))
                 }
+            }
+            Lobe::Layered { scale, .. } => {
+                let s = self.layers()?.sample(wo, uc, u, mode)?;
+                Some(LobeSample { wi: s.wi, weight: s.weight * scale, delta: s.specular, weighted: true })
             }
         }
     }

@@ -19,6 +19,7 @@
 //!   narrow for light sampling by BSDF sampling alone.
 
 pub mod fresnel;
+pub mod layered;
 mod lobe;
 pub mod microfacet;
 mod near_specular;
@@ -221,7 +222,10 @@ impl Bsdf {
             || (self.len == 1
                 && matches!(
                     self.lobes[0],
-                    Lobe::Dielectric { .. } | Lobe::RoughDielectric { .. } | Lobe::Plastic { .. }
+                    Lobe::Dielectric { .. }
+                        | Lobe::RoughDielectric { .. }
+                        | Lobe::Plastic { .. }
+                        | Lobe::Layered { .. }
                 ))
     }
 
@@ -255,12 +259,19 @@ impl Bsdf {
         self.smooth
     }
 
-    /// True when a lobe scatters diffusely: a Lambertian lobe, or a plastic's diffuse substrate. A BSDF with smooth
-    /// lobes but none of these is glossy (rough conductors and dielectrics, lone Phong lobes), whose reflection of
-    /// its surroundings a density estimate on the surface would blur (see `ppm`'s eye pass).
+    /// True when a lobe scatters diffusely: a Lambertian lobe, a plastic's diffuse substrate, or a layered lobe
+    /// with a diffuse base or a scattering medium. A BSDF with smooth lobes but none of these is glossy (rough
+    /// conductors and dielectrics, lone Phong lobes), whose reflection of its surroundings a density estimate on the
+    /// surface would blur (see `ppm`'s eye pass).
     #[inline]
     pub fn has_diffuse(&self) -> bool {
-        self.lobes().iter().any(|l| matches!(l, Lobe::Diffuse { .. } | Lobe::Plastic { .. }))
+        self.lobes().iter().any(|l| match l {
+            Lobe::Diffuse { .. } | Lobe::Plastic { .. } => true,
+            Lobe::Layered { spec, albedo, .. } => {
+                spec.base == layered::LayerBase::Diffuse || albedo.max_element() > 0.0
+            }
+            _ => false,
+        })
     }
 
     /// True when the BSDF has a delta lobe (mirror, smooth dielectric or conductor).
@@ -269,21 +280,30 @@ impl Bsdf {
         self.lobes().iter().any(Lobe::is_delta)
     }
 
-    /// Probability that `sample` picks a smooth (non-delta) lobe: 1 for purely smooth materials, 0 for purely
-    /// specular ones.
+    /// Probability that `sample` returns a smooth (non-delta) direction: 1 for purely smooth materials, 0 for
+    /// purely specular ones (a layered lobe with a smooth coat counts its mirror reflection as delta).
     #[inline]
     pub fn smooth_probability(&self) -> f32 {
-        (0..self.len).filter(|&i| !self.lobes[i].is_delta()).map(|i| self.lobe_probability(i)).sum()
+        (0..self.len).map(|i| self.lobe_probability(i) * (1.0 - self.lobes[i].delta_probability(self.wo_local))).sum()
     }
 
-    /// True when `sample(u_lobe, ..)` picks a delta lobe (the choice depends on `u_lobe` only).
+    /// True when `sample(u_lobe, ..)` returns a delta direction (the choice depends on `u_lobe` only).
     #[inline]
     pub fn picks_delta(&self, u_lobe: f32) -> bool {
         if self.len == 0 {
             return false;
         }
+        let (i, uc) = self.pick(u_lobe);
+        self.lobes[i].is_delta() || uc < self.lobes[i].delta_probability(self.wo_local)
+    }
+
+    /// The lobe `sample(u_lobe, ..)` draws from, and the number within it (`len > 0`).
+    #[inline]
+    fn pick(&self, u_lobe: f32) -> (usize, f32) {
         let i = self.cdf[..self.len].iter().position(|&c| u_lobe < c).unwrap_or(self.len - 1);
-        self.lobes[i].is_delta()
+        let p = self.lobe_probability(i);
+        let lo = if i == 0 { 0.0 } else { self.cdf[i - 1] };
+        (i, if p > 0.0 { ((u_lobe - lo) / p).clamp(0.0, 0.99999994) } else { 0.5 })
     }
 
     /// Probability of choosing lobe `i`.
@@ -516,20 +536,38 @@ impl Bsdf {
         if self.len == 0 {
             return None;
         }
-        let i = self.cdf[..self.len].iter().position(|&c| u_lobe < c).unwrap_or(self.len - 1);
+        let (i, uc) = self.pick(u_lobe);
         let p = self.lobe_probability(i);
-        let lo = if i == 0 { 0.0 } else { self.cdf[i - 1] };
-        let uc = if p > 0.0 { ((u_lobe - lo) / p).clamp(0.0, 0.99999994) } else { 0.5 };
         let lobe = &self.lobes[i];
         let s = lobe.sample(self.wo_local, uc, u, mode)?;
         let wi = self.frame.to_world(s.wi);
         if !self.consistent(wi, s.wi) {
             return None;
         }
-        if lobe.is_delta() {
+        if s.delta {
             let weight = s.weight * (self.correction(wi, mode) / p);
             let eta = if s.wi.z * self.wo_local.z < 0.0 { lobe.radiance_eta() } else { 1.0 };
             return Some(BsdfSample { wi, weight, pdf: 0.0, delta: true, eta });
+        }
+        if s.weighted || (self.len > 1 && self.lobes().iter().any(|l| matches!(l, Lobe::Layered { .. }))) {
+            // A layered walk's value and density at `wi` are estimates, not what drew it: the walk's own
+            // throughput is the estimate, one lobe at a time (no mixture); the mixture's estimated density is
+            // for multiple importance sampling only.
+            let weight = if s.weighted {
+                s.weight
+            } else {
+                let (f, pdf) = lobe.eval_pdf(self.wo_local, s.wi, mode);
+                if pdf <= 0.0 || !pdf.is_finite() {
+                    return None;
+                }
+                f * (s.wi.z.abs() / pdf)
+            };
+            let weight = weight * (self.correction(wi, mode) / p);
+            let pdf = self.pdf_local(s.wi);
+            if pdf <= 0.0 || !pdf.is_finite() || !weight.is_finite() {
+                return None;
+            }
+            return Some(BsdfSample { wi, weight, pdf, delta: false, eta: 1.0 });
         }
         let (f, pdf) = self.eval_pdf_local(s.wi, mode);
         if pdf <= 0.0 || !pdf.is_finite() {

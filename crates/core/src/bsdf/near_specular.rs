@@ -95,16 +95,13 @@ impl Bsdf {
         if self.len == 0 {
             return BsdfPart::Wide;
         }
-        let i = self.cdf[..self.len].iter().position(|&c| u_lobe < c).unwrap_or(self.len - 1);
+        // The lobe and the number within it, as `sample` computes them (a plastic draws its coat when the number
+        // is below the coat's probability, a layered lobe with a smooth coat its mirror reflection).
+        let (i, uc) = self.pick(u_lobe);
         let lobe = &self.lobes[i];
-        if lobe.is_delta() {
+        if lobe.is_delta() || uc < lobe.delta_probability(self.wo_local) {
             return BsdfPart::Delta;
         }
-        // The number within the lobe, as `sample` computes it (a plastic draws its coat when it is below the
-        // coat's probability).
-        let p = self.lobe_probability(i);
-        let lo = if i == 0 { 0.0 } else { self.cdf[i - 1] };
-        let uc = if p > 0.0 { ((u_lobe - lo) / p).clamp(0.0, 0.99999994) } else { 0.5 };
         if uc < lobe.near_specular_probability(self.wo_local) { BsdfPart::NearSpecular } else { BsdfPart::Wide }
     }
 

@@ -11,6 +11,8 @@
 //!   is a smooth metal;
 //! - `Dielectric`: GGX rough glass (reflection + transmission, Walter et al. 2007); alpha 0 is smooth glass;
 //! - `Plastic`: a diffuse base under a GGX dielectric coat;
+//! - `Coated`: pbrt-v4's stochastic layered BSDF, a dielectric coat over a diffuse or conductor base with an
+//!   optional medium between (`coateddiffuse`, `coatedconductor`; `bsdf::layered`);
 //! - `Blend`: `(1 - w) a + w b` for a scalar weight `w` in [0, 1] (constant or texture: 6.837 checkerboard, noise,
 //!   marble and wood; glTF's metallic factor);
 //! - `NormalMap`, `Bump`: a base material with its shading normal perturbed by a tangent-space normal map or by the
@@ -98,6 +100,21 @@ pub enum ConductorSpec {
     Schlick(ColorParam),
 }
 
+/// The base under a [`MaterialKind::Coated`] coat.
+#[derive(Clone, Debug, PartialEq)]
+pub enum CoatBase {
+    /// A Lambertian base of this reflectance (clamped to `[0, 1]`).
+    Diffuse(ColorParam),
+    /// A GGX conductor; a reflectance (`ConductorSpec::Schlick`) becomes the conductor with that reflectance at
+    /// normal incidence (`eta = 1`, `k = 2 sqrt(r) / sqrt(1 - r)`, as pbrt does).
+    Conductor {
+        /// GGX width (smooth below 1e-3).
+        alpha: ScalarParam,
+        /// Its index relative to the outside (divided by the coat's at each hit).
+        fresnel: ConductorSpec,
+    },
+}
+
 /// What a material is made of, with its parameters.
 #[derive(Clone, Debug, PartialEq)]
 pub enum MaterialKind {
@@ -137,6 +154,21 @@ pub enum MaterialKind {
         /// The coat's tabulated transmittance and internal reflectance ([`RoughInterface::get`](crate::bsdf::rough_interface::RoughInterface::get) of `ior` and the
         /// constant `alpha`, or of every `alpha` for a textured one).
         interface: &'static crate::bsdf::rough_interface::RoughInterface,
+    },
+    /// pbrt-v4's layered BSDF: a dielectric coat of GGX width `coat_alpha` over `base`, with a medium of
+    /// single-scattering `albedo` between them; the coat's index, the medium's thickness and phase function and
+    /// the walks' limits are in `spec`. A coat narrower than the near-specular width
+    /// ([`NEAR_SPECULAR_ALPHA`](crate::bsdf::NEAR_SPECULAR_ALPHA), pbrt roughness 1e-4) is smooth, so that
+    /// estimators without multiple importance sampling find its mirror reflection.
+    Coated {
+        /// GGX width of the coat.
+        coat_alpha: ScalarParam,
+        /// What lies under the coat.
+        base: CoatBase,
+        /// The medium's single-scattering albedo (0: no medium).
+        albedo: ColorParam,
+        /// The constant parameters (interned).
+        spec: &'static crate::bsdf::layered::LayerSpec,
     },
     /// `(1 - weight) a + weight b`, materials by index.
     Blend {
@@ -218,6 +250,16 @@ impl Material {
                 x(alpha) || c(reflectance) || c(transmittance)
             }
             MaterialKind::Plastic { alpha, diffuse, specular, .. } => x(alpha) || c(diffuse) || c(specular),
+            MaterialKind::Coated { coat_alpha, base, albedo, .. } => {
+                x(coat_alpha)
+                    || c(albedo)
+                    || match base {
+                        CoatBase::Diffuse(r) => c(r),
+                        CoatBase::Conductor { alpha, fresnel } => {
+                            x(alpha) || matches!(fresnel, ConductorSpec::Schlick(f) if c(f))
+                        }
+                    }
+            }
             MaterialKind::Blend { a, b, weight } => x(weight) || sub(*a) || sub(*b),
             MaterialKind::NormalMap { .. } | MaterialKind::Bump { .. } => true,
         }
@@ -313,7 +355,9 @@ fn lobe_keys(ms: &[Material], id: u32, depth: usize, top: bool, out: &mut Vec<St
             };
             out.push(format!("conductor {} {f}", scalar(alpha)));
         }
-        MaterialKind::Dielectric { .. } | MaterialKind::Plastic { .. } => out.push(unique.clone()),
+        MaterialKind::Dielectric { .. } | MaterialKind::Plastic { .. } | MaterialKind::Coated { .. } => {
+            out.push(unique.clone())
+        }
         MaterialKind::Blend { a, b, .. } => {
             lobe_keys(ms, *a, depth + 1, false, out)?;
             lobe_keys(ms, *b, depth + 1, false, out)?;

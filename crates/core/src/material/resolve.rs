@@ -3,7 +3,7 @@
 //! weights multiplied in. Called once per shading point; no allocation.
 
 use super::normal_map::{BUMP_DELTA, bump_normal, normal_map_normal, tangent_frame};
-use super::{ConductorSpec, Material, MaterialKind, MaterialSet, Shading};
+use super::{CoatBase, ConductorSpec, Material, MaterialKind, MaterialSet, Shading};
 use crate::bsdf::{Bsdf, ConductorFresnel, Lobe};
 use crate::math::Frame;
 use crate::primitives::{Primitives, SurfaceHit};
@@ -189,6 +189,11 @@ fn push_lobes(
                 });
             }
         }
+        MaterialKind::Coated { coat_alpha, base, albedo, spec } => {
+            if side.shades(m) {
+                bsdf.push(coated_lobe(textures, at, coat_alpha, base, albedo, spec, w));
+            }
+        }
         MaterialKind::Blend { a, b, weight } => {
             let t = textures.scalar(weight, at);
             let t = if t.is_finite() { t.clamp(0.0, 1.0) } else { 0.0 };
@@ -204,4 +209,35 @@ fn push_lobes(
             push_lobes(materials, textures, &materials[*base as usize], at, side, w, bsdf)
         }
     }
+}
+
+/// The layered lobe of a [`MaterialKind::Coated`] material at `at`, times `w`.
+fn coated_lobe(
+    textures: &TextureSet,
+    at: &TexPoint,
+    coat_alpha: &ScalarParam,
+    base: &CoatBase,
+    albedo: &crate::texture::ColorParam,
+    spec: &'static crate::bsdf::layered::LayerSpec,
+    w: f32,
+) -> Lobe {
+    let a = alpha(textures, coat_alpha, at);
+    let coat_alpha = if a < crate::bsdf::NEAR_SPECULAR_ALPHA { 0.0 } else { a };
+    let (base, base_k, base_alpha) = match base {
+        CoatBase::Diffuse(r) => (textures.color(r, at).clamp(glam::Vec3::ZERO, glam::Vec3::ONE), glam::Vec3::ZERO, 0.0),
+        CoatBase::Conductor { alpha: ca, fresnel } => {
+            let (eta, k) = match fresnel {
+                ConductorSpec::Complex { eta, k } => (*eta, *k),
+                ConductorSpec::Schlick(r) => {
+                    let r = textures.color(r, at).clamp(glam::Vec3::ZERO, glam::Vec3::splat(0.9999));
+                    (glam::Vec3::ONE, 2.0 * r.powf(0.5) / (glam::Vec3::ONE - r).powf(0.5))
+                }
+            };
+            let a = textures.scalar(ca, at);
+            let a = if a.is_nan() || a < 1e-3 { 0.0 } else { a.min(1.0) };
+            (eta / spec.eta, k / spec.eta, a)
+        }
+    };
+    let albedo = textures.color(albedo, at).clamp(glam::Vec3::ZERO, glam::Vec3::ONE);
+    Lobe::Layered { coat_alpha, base, base_k, base_alpha, albedo, scale: w, spec }
 }

@@ -295,30 +295,31 @@ pub fn material(c: &mut Converter, ty: &str, p: &Params, pos: &SourcePos, named:
             format!("RoughConductor(alpha: {a}, {f})")
         }
         "coatedconductor" => {
-            approx(c, "a rough conductor (the coat is left out)");
-            let a = alpha_prefixed(c, p, "conductor.", pos)?;
-            let f = conductor_fresnel(c, p, "conductor.", pos)?;
-            for q in [
-                "interface.roughness",
-                "interface.uroughness",
-                "interface.vroughness",
-                "interface.eta",
-                "thickness",
-                "albedo",
-                "g",
-                "maxdepth",
-                "nsamples",
-            ] {
-                p.has(q);
-            }
-            format!("RoughConductor(alpha: {a}, {f})")
+            let coat = prefixed(p, "interface.", &["roughness", "uroughness", "vroughness", "eta"]);
+            let a = alpha(c, &coat, 0.0, pos)?;
+            let eta = ior(c, &coat, 1.5, pos)?;
+            let ca = alpha_prefixed(c, p, "conductor.", pos)?;
+            let f = if p.has("reflectance") {
+                format!("reflectance: {}", color(c, p, "reflectance", [1.0; 3], pos)?)
+            } else {
+                conductor_fresnel(c, p, "conductor.", pos)?
+            };
+            let layer = layer_fields(c, p, pos)?;
+            format!("CoatedConductor(alpha: {a}, ior: {}, conductor_alpha: {ca}, {f}, {layer})", num(eta))
         }
-        "plastic" | "substrate" | "uber" | "coateddiffuse" => {
+        "coateddiffuse" => {
+            let r = color(c, p, "reflectance", [0.5; 3], pos)?;
+            let a = alpha(c, p, 0.0, pos)?;
+            let eta = ior(c, p, 1.5, pos)?;
+            let layer = layer_fields(c, p, pos)?;
+            format!("CoatedDiffuse(reflectance: {r}, alpha: {a}, ior: {}, {layer})", num(eta))
+        }
+        "plastic" | "substrate" | "uber" => {
             let (kd_name, kd, ks_name, ks, rough, eta) = match ty {
                 "plastic" => ("Kd", 0.25, "Ks", 0.25, 0.1, 1.5),
                 "substrate" => ("Kd", 0.5, "Ks", 0.5, 0.1, 1.5),
                 "uber" => ("Kd", 0.25, "Ks", 0.25, 0.1, 1.5),
-                _ => ("reflectance", 0.5, "", 1.0, 0.0, 1.5),
+                _ => unreachable!("the plastic family"),
             };
             let diffuse = color(c, p, kd_name, [kd; 3], pos)?;
             let specular = if ks_name.is_empty() { tuple3([1.0; 3]) } else { color(c, p, ks_name, [ks; 3], pos)? };
@@ -332,11 +333,6 @@ pub fn material(c: &mut Converter, ty: &str, p: &Params, pos: &SourcePos, named:
                 }
                 if p.spectrum("opacity")?.is_some_and(|s| s != SpectrumParam::Rgb([1.0; 3])) {
                     c.warn("material \"uber\": \"opacity\" is ignored (opaque)");
-                }
-            }
-            if ty != "plastic" {
-                for q in ["thickness", "albedo", "g", "maxdepth", "nsamples"] {
-                    p.has(q);
                 }
             }
             // A coat of index 1 reflects nothing (Fresnel 0): pbrt's uber with index 1 is its diffuse layer.
@@ -423,6 +419,63 @@ pub fn material(c: &mut Converter, ty: &str, p: &Params, pos: &SourcePos, named:
         return Ok(add_material(c, text, named));
     }
     Ok(base)
+}
+
+/// The parameters of `p` named `prefix` + one of `names`, without the prefix (`interface.eta` as `eta`), each
+/// marked as used.
+fn prefixed(p: &Params, prefix: &str, names: &[&str]) -> Params {
+    let mut q = Params { list: Vec::new(), file: p.file.clone() };
+    for item in &p.list {
+        if let Some(rest) = item.name.strip_prefix(prefix)
+            && names.contains(&rest)
+        {
+            p.has(&item.name);
+            let mut it = item.clone();
+            it.name = rest.to_string();
+            q.list.push(it);
+        } else if item.name == "remaproughness" {
+            p.has(&item.name);
+            q.list.push(item.clone());
+        }
+    }
+    q
+}
+
+/// The layer's RON fields of a coated material (pbrt-v4's `thickness`, `albedo`, `g`, `maxdepth`, `nsamples`),
+/// checked here so that an error points at the pbrt line.
+fn layer_fields(c: &mut Converter, p: &Params, pos: &SourcePos) -> Result<String> {
+    for key in ["thickness", "g"] {
+        if matches!(p.float_or_texture(key)?, Some(FloatParam::Texture(_))) {
+            c.warn(format!("a textured \"{key}\" of a coated material is approximated by pbrt's default"));
+        }
+    }
+    let float = |key: &str, default: f64| -> Result<f64> {
+        Ok(match p.float_or_texture(key)? {
+            Some(FloatParam::Value(v)) => v,
+            _ => default,
+        })
+    };
+    let (thickness, g) = (float("thickness", 0.01)?, float("g", 0.0)?);
+    let at = |key: &str| p.pos_of(key).unwrap_or(pos.clone());
+    if !(thickness.is_finite() && thickness > 0.0) {
+        return Err(bad(&at("thickness"), format!("thickness must be positive, got {thickness}")));
+    }
+    if !(-1.0..=1.0).contains(&g) {
+        return Err(bad(&at("g"), format!("g must be in [-1, 1], got {g}")));
+    }
+    let (depth, samples) = (p.int("maxdepth", 10)?, p.int("nsamples", 1)?);
+    if !(1..=100).contains(&depth) {
+        return Err(bad(&at("maxdepth"), format!("maxdepth must be in 1..=100, got {depth}")));
+    }
+    if !(1..=64).contains(&samples) {
+        return Err(bad(&at("nsamples"), format!("nsamples must be in 1..=64, got {samples}")));
+    }
+    let albedo = color(c, p, "albedo", [0.0; 3], pos)?;
+    Ok(format!(
+        "thickness: {}, albedo: {albedo}, g: {}, max_depth: {depth}, samples: {samples}",
+        num(thickness),
+        num(g)
+    ))
 }
 
 fn alpha_prefixed(c: &mut Converter, p: &Params, prefix: &str, pos: &SourcePos) -> Result<String> {
