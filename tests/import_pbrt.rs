@@ -228,6 +228,20 @@ fn materials_map_to_prism_with_each_versions_roughness_remapping() {
         }
         other => panic!("{other:?}"),
     }
+    let v4 = format!(
+        "{HEAD_V4}WorldBegin\nMakeNamedMaterial \"t\" \"string type\" \"thindielectric\" \"float eta\" 1.33\n\
+         MakeNamedMaterial \"d\" \"string type\" \"diffusetransmission\" \"rgb transmittance\" [0.4 0.2 0.1] \"float scale\" 2\n"
+    );
+    let ron = ron_of(&write("mat6.pbrt", &v4));
+    let d = desc(&ron);
+    assert!(matches!(material(&d, "named:t"), MaterialDesc::ThinDielectric { ior, .. } if (*ior - 1.33).abs() < 1e-6));
+    match material(&d, "named:d") {
+        MaterialDesc::DiffuseTransmission { reflectance, transmittance } => {
+            use prism::load::schema::ColorDesc::Rgb;
+            assert_eq!((reflectance, transmittance), (&Rgb([0.5; 3]), &Rgb([0.8, 0.4, 0.2])), "times the scale");
+        }
+        other => panic!("{other:?}"),
+    }
     // A walk limit beyond the bound is refused at its line.
     let bad = format!(
         "{HEAD_V4}WorldBegin\nMakeNamedMaterial \"c\" \"string type\" \"coateddiffuse\" \"integer maxdepth\" 100000\n"

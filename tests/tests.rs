@@ -52,6 +52,7 @@ mod sampling;
 mod scene_overrides;
 mod scenes;
 mod stability;
+mod transmitters;
 mod untrusted_formats;
 mod vcm;
 mod vcm_mis;

@@ -19,6 +19,9 @@ fn one3() -> ColorDesc {
 fn half3() -> ColorDesc {
     ColorDesc::Rgb([0.5; 3])
 }
+fn quarter3() -> ColorDesc {
+    ColorDesc::Rgb([0.25; 3])
+}
 fn zero3() -> ColorDesc {
     ColorDesc::Rgb([0.0; 3])
 }
@@ -312,6 +315,23 @@ pub enum MaterialDesc {
         max_depth: u32,
         #[serde(default = "one")]
         samples: u32,
+    },
+    /// Lambertian reflection and Lambertian transmission to the other side (pbrt-v4's `diffusetransmission`).
+    DiffuseTransmission {
+        #[serde(default = "quarter3")]
+        reflectance: ColorDesc,
+        #[serde(default = "quarter3")]
+        transmittance: ColorDesc,
+    },
+    /// A thin slab of glass: Fresnel reflection with the slab's inter-reflections, straight transmission (pbrt-v4's
+    /// `thindielectric`).
+    ThinDielectric {
+        #[serde(default = "ior_glass")]
+        ior: f32,
+        #[serde(default = "one3")]
+        reflectance: ColorDesc,
+        #[serde(default = "one3")]
+        transmittance: ColorDesc,
     },
     /// `(1 - weight) a + weight b`.
     Blend { a: String, b: String, weight: ScalarDesc },

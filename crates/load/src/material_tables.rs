@@ -330,6 +330,21 @@ fn material(name: &str, d: &MaterialDesc, c: &Ctx) -> Result<(Material, Option<(
             };
             (kind(k, *two_sided), None)
         }
+        MaterialDesc::DiffuseTransmission { reflectance, transmittance } => {
+            let k = MaterialKind::DiffuseTransmission {
+                reflectance: c.color(reflectance, "reflectance")?,
+                transmittance: c.color(transmittance, "transmittance")?,
+            };
+            (kind(k, true), None)
+        }
+        MaterialDesc::ThinDielectric { ior, reflectance, transmittance } => {
+            let k = MaterialKind::ThinDielectric {
+                ior: check_ior(*ior, c)?,
+                reflectance: c.color(reflectance, "reflectance")?,
+                transmittance: c.color(transmittance, "transmittance")?,
+            };
+            (kind(k, true), None)
+        }
         MaterialDesc::CoatedDiffuse { reflectance, alpha, ior, thickness, albedo, g, max_depth, samples } => {
             let spec = layer_spec(LayerBase::Diffuse, *ior, *thickness, *g, *max_depth, *samples, c)?;
             let k = MaterialKind::Coated {

@@ -99,10 +99,13 @@ pub fn gather(
         return (DVec3::ZERO, 0);
     };
     let ng = bsdf.geometric_normal();
+    // Photons that arrived on the other side of the surface light it only through a diffuse transmitter (else
+    // they would leak through thin walls).
+    let both_sides = bsdf.transmits_diffusely();
     let mut phi = FixedRgb::default();
     let mut m = 0u32;
     query(vp.hit.p, r, &mut |ph: &Photon| {
-        if ph.ng.dot(ng) <= 0.0 || vp.eye_depth + ph.depth + 2 > max_segments {
+        if (ph.ng.dot(ng) <= 0.0 && !both_sides) || vp.eye_depth + ph.depth + 2 > max_segments {
             return;
         }
         m += 1;

@@ -5,6 +5,8 @@
 //! | lobe | f(wo, wi) |
 //! |---|---|
 //! | `Diffuse` | `albedo / pi` |
+//! | `DiffuseTransmission` | `r / pi` on `wo`'s side, `t / pi` on the other (pbrt-v4's `DiffuseTransmissionBxDF`) |
+//! | `ThinDielectric` | a thin slab of glass (pbrt-v4's `ThinDielectricBxDF`): reflection `R' = R + T^2 R / (1 - R^2)` (`R` Fresnel's, `T = 1 - R`, the slab's inter-reflections summed), straight transmission `1 - R'` (delta) |
 //! | `Phong` | `ks (e + 2) / (2 pi) cos^e(angle between wi and the mirror direction of wo)` (energy-normalised) |
 //! | `Blinn6837` | `ks (n.h)^e / (pi wi.z)`: the 6.837 course's specular term (times the irradiance pi c cos of a light of colour c it gives `ks (n.h)^e c`) |
 //! | `Mirror` | ideal reflection, weight `r` (delta) |
@@ -21,6 +23,7 @@ use super::TransportMode;
 use super::fresnel::{fresnel_conductor, fresnel_schlick};
 use super::layered::{LayerSpec, Layers};
 use super::microfacet::{ggx_d, ggx_g1, sample_visible, visible_pdf};
+use super::rough_dielectric::{refract_about, rough_dielectric_eval, rough_dielectric_eval_pdf, rough_dielectric_pdf};
 use super::rough_interface::InterfaceAt;
 use crate::math::{Frame, fresnel_dielectric, luminance};
 use crate::sampling::warp;
@@ -60,6 +63,23 @@ pub enum Lobe {
     Diffuse {
         /// Reflectance per RGB channel (the hemispherical albedo, normally in `[0, 1]`).
         albedo: Vec3,
+    },
+    /// Lambertian reflection and Lambertian transmission to the other side.
+    DiffuseTransmission {
+        /// Reflectance per RGB channel.
+        r: Vec3,
+        /// Transmittance per RGB channel.
+        t: Vec3,
+    },
+    /// A thin dielectric slab: Fresnel reflection with the slab's inter-reflections, transmission straight
+    /// through (delta).
+    ThinDielectric {
+        /// Filter on the reflected part, per RGB channel.
+        r: Vec3,
+        /// Filter on the transmitted part, per RGB channel.
+        t: Vec3,
+        /// The slab's index of refraction over the outside's.
+        eta: f32,
     },
     /// Energy-normalised Phong lobe about the mirror direction of `wo`.
     Phong {
@@ -191,28 +211,15 @@ fn reflect_about(w: Vec3A, m: Vec3A) -> Vec3A {
     2.0 * w.dot(m) * m - w
 }
 
-/// Refract `w` (on the side `m` points to) through the microsurface `m` with relative index `eta`.
-#[inline]
-fn refract_about(w: Vec3A, m: Vec3A, eta: f32) -> Option<Vec3A> {
-    crate::math::refract(w, m, eta).map(|t| t.normalize())
-}
-
-/// Half vector of a refraction pair, oriented to +z.
-#[inline]
-fn half_transmit(wo: Vec3A, wi: Vec3A, eta: f32) -> Option<Vec3A> {
-    let m = (wo + eta * wi).normalize_or_zero();
-    if m == Vec3A::ZERO {
-        return None;
-    }
-    Some(if m.z < 0.0 { -m } else { m })
-}
-
 impl Lobe {
     /// True for lobes concentrated on single directions (mirror, smooth dielectric, smooth conductor).
     #[inline]
     pub fn is_delta(&self) -> bool {
         match self {
-            Lobe::Mirror { .. } | Lobe::Dielectric { .. } | Lobe::CourseRefraction { .. } => true,
+            Lobe::Mirror { .. }
+            | Lobe::Dielectric { .. }
+            | Lobe::CourseRefraction { .. }
+            | Lobe::ThinDielectric { .. } => true,
             Lobe::Conductor { alpha, .. } => *alpha == 0.0,
             Lobe::Layered { .. } => self.layers().is_some_and(|l| l.is_delta()),
             _ => false,
@@ -258,6 +265,8 @@ impl Lobe {
     pub fn scaled(self, w: f32) -> Lobe {
         match self {
             Lobe::Diffuse { albedo } => Lobe::Diffuse { albedo: albedo * w },
+            Lobe::DiffuseTransmission { r, t } => Lobe::DiffuseTransmission { r: r * w, t: t * w },
+            Lobe::ThinDielectric { r, t, eta } => Lobe::ThinDielectric { r: r * w, t: t * w, eta },
             Lobe::Phong { ks, exponent } => Lobe::Phong { ks: ks * w, exponent },
             Lobe::Blinn6837 { ks, exponent } => Lobe::Blinn6837 { ks: ks * w, exponent },
             Lobe::Mirror { r } => Lobe::Mirror { r: r * w },
@@ -278,6 +287,10 @@ impl Lobe {
     pub fn merge(&mut self, other: &Lobe) -> bool {
         match (self, other) {
             (Lobe::Diffuse { albedo: a }, Lobe::Diffuse { albedo: b }) => *a += *b,
+            (Lobe::DiffuseTransmission { r, t }, Lobe::DiffuseTransmission { r: r2, t: t2 }) => {
+                *r += *r2;
+                *t += *t2;
+            }
             (Lobe::Phong { ks: a, exponent: e }, Lobe::Phong { ks: b, exponent: f }) if e == f => *a += *b,
             (Lobe::Blinn6837 { ks: a, exponent: e }, Lobe::Blinn6837 { ks: b, exponent: f }) if e == f => *a += *b,
             (Lobe::Mirror { r: a }, Lobe::Mirror { r: b }) => *a += *b,
@@ -300,6 +313,11 @@ impl Lobe {
     pub fn selection_weight(&self, wo: Vec3A) -> f32 {
         let w = match self {
             Lobe::Diffuse { albedo } => luminance(*albedo),
+            Lobe::DiffuseTransmission { r, t } => luminance(*r) + luminance(*t),
+            Lobe::ThinDielectric { r, t, eta } => {
+                let f = thin_reflectance(wo.z, *eta);
+                f * luminance(*r) + (1.0 - f) * luminance(*t)
+            }
             Lobe::Phong { ks, .. } | Lobe::Blinn6837 { ks, .. } => luminance(*ks),
             Lobe::Mirror { r } => luminance(*r),
             Lobe::Dielectric { r, t, eta } => {
@@ -356,7 +374,19 @@ impl Lobe {
                 let cos_h = (wo + wi).normalize_or_zero().z;
                 if cos_h > 0.0 { ks * (cos_h.powf(exponent) * FRAC_1_PI / wi.z) } else { Vec3::ZERO }
             }
-            Lobe::Mirror { .. } | Lobe::Dielectric { .. } | Lobe::CourseRefraction { .. } => Vec3::ZERO,
+            Lobe::DiffuseTransmission { r, t } => {
+                if wo.z * wi.z > 0.0 {
+                    r * FRAC_1_PI
+                } else if wo.z * wi.z < 0.0 {
+                    t * FRAC_1_PI
+                } else {
+                    Vec3::ZERO
+                }
+            }
+            Lobe::Mirror { .. }
+            | Lobe::Dielectric { .. }
+            | Lobe::CourseRefraction { .. }
+            | Lobe::ThinDielectric { .. } => Vec3::ZERO,
             Lobe::Conductor { alpha, fresnel, scale } => {
                 if !reflect || alpha == 0.0 {
                     return Vec3::ZERO;
@@ -432,7 +462,18 @@ impl Lobe {
                 }
                 warp::phong_lobe_pdf(Frame::from_normal(reflect_z(wo)).to_local(wi), exponent)
             }
-            Lobe::Mirror { .. } | Lobe::Dielectric { .. } | Lobe::CourseRefraction { .. } => 0.0,
+            Lobe::DiffuseTransmission { r, t } => {
+                if wo.z == 0.0 || wi.z == 0.0 {
+                    return 0.0;
+                }
+                let pr = diffuse_reflection_probability(r, t);
+                let side = if wo.z * wi.z > 0.0 { pr } else { 1.0 - pr };
+                side * wi.z.abs() * FRAC_1_PI
+            }
+            Lobe::Mirror { .. }
+            | Lobe::Dielectric { .. }
+            | Lobe::CourseRefraction { .. }
+            | Lobe::ThinDielectric { .. } => 0.0,
             Lobe::Conductor { alpha, .. } => {
                 if !reflect || alpha == 0.0 {
                     return 0.0;
@@ -467,6 +508,14 @@ impl Lobe {
         let dir = |wi: Vec3A| Some(LobeSample::smooth(wi));
         match *self {
             Lobe::Diffuse { .. } => dir(warp::cosine_hemisphere(u)),
+            Lobe::DiffuseTransmission { r, t } => {
+                let w = warp::cosine_hemisphere(u);
+                dir(if uc < diffuse_reflection_probability(r, t) { w } else { Vec3A::new(w.x, w.y, -w.z) })
+            }
+            Lobe::ThinDielectric { r, t, eta } => {
+                let f = thin_reflectance(wo.z, eta);
+                Some(if uc < f { LobeSample::delta(reflect_z(wo), r) } else { LobeSample::delta(-wo, t) })
+            }
             Lobe::Phong { exponent, .. } | Lobe::Blinn6837 { exponent, .. } => {
                 dir(Frame::from_normal(reflect_z(wo)).to_world(warp::phong_lobe(u, exponent)))
             }
@@ -542,9 +591,29 @@ impl Lobe {
                     f(wi.normalize(), t, t);
                 }
             }
+            Lobe::ThinDielectric { r, t, eta } => {
+                let fr = thin_reflectance(wo.z, eta);
+                f(reflect_z(wo), r * fr, r);
+                f(-wo, t * (1.0 - fr), t);
+            }
             _ => {}
         }
     }
+}
+
+/// The reflectance of a thin dielectric slab seen at cosine `cos`: Fresnel's `R` with the slab's inter-reflections,
+/// `R + T^2 R / (1 - R^2)` (pbrt-v4's `ThinDielectricBxDF`).
+#[inline]
+pub fn thin_reflectance(cos: f32, eta: f32) -> f32 {
+    let r = fresnel_dielectric(cos.abs(), eta);
+    if r < 1.0 { r + (1.0 - r) * (1.0 - r) * r / (1.0 - r * r) } else { 1.0 }
+}
+
+/// Probability of sampling a diffuse transmitter's reflection rather than its transmission.
+#[inline]
+fn diffuse_reflection_probability(r: Vec3, t: Vec3) -> f32 {
+    let (a, b) = (luminance(r), luminance(t));
+    if a + b > 0.0 { a / (a + b) } else { 0.5 }
 }
 
 /// Probability of sampling the plastic's specular coat rather than its base.
@@ -553,105 +622,4 @@ pub(super) fn plastic_specular_probability(wo: Vec3A, eta: f32, diffuse: Vec3, s
     let f = fresnel_dielectric(wo.z, eta);
     let (s, d) = (f * luminance(specular), (1.0 - f) * luminance(diffuse));
     if s + d > 0.0 { s / (s + d) } else { 0.5 }
-}
-
-fn rough_dielectric_eval(alpha: f32, r: Vec3, t: Vec3, eta: f32, wo: Vec3A, wi: Vec3A, mode: TransportMode) -> Vec3 {
-    if wo.z == 0.0 || wi.z == 0.0 {
-        return Vec3::ZERO;
-    }
-    if wo.z * wi.z > 0.0 {
-        let mut m = (wo + wi).normalize();
-        if m.z < 0.0 {
-            m = -m;
-        }
-        let f = fresnel_dielectric(wo.dot(m).abs(), eta);
-        let g = ggx_g1(wo, m, alpha) * ggx_g1(wi, m, alpha);
-        return r * (f * ggx_d(m, alpha) * g / (4.0 * (wo.z * wi.z).abs()));
-    }
-    let Some(m) = half_transmit(wo, wi, eta) else { return Vec3::ZERO };
-    let (om, im) = (wo.dot(m), wi.dot(m));
-    let g = ggx_g1(wo, m, alpha) * ggx_g1(wi, m, alpha);
-    if g == 0.0 {
-        return Vec3::ZERO;
-    }
-    let f = fresnel_dielectric(om.abs(), eta);
-    let denom = om + eta * im;
-    let mut v = (1.0 - f) * ggx_d(m, alpha) * g * (om * im).abs() / ((wo.z * wi.z).abs() * denom * denom);
-    if mode == TransportMode::Importance {
-        v *= eta * eta;
-    }
-    if v.is_finite() { t * v } else { Vec3::ZERO }
-}
-
-fn rough_dielectric_pdf(alpha: f32, eta: f32, wo: Vec3A, wi: Vec3A) -> f32 {
-    if wo.z <= 0.0 || wi.z == 0.0 {
-        return 0.0;
-    }
-    if wi.z > 0.0 {
-        let m = (wo + wi).normalize();
-        let f = fresnel_dielectric(wo.dot(m), eta);
-        return f * visible_pdf(wo, m, alpha) / (4.0 * wo.dot(m).abs());
-    }
-    let Some(m) = half_transmit(wo, wi, eta) else { return 0.0 };
-    let (om, im) = (wo.dot(m), wi.dot(m));
-    if om <= 0.0 || im >= 0.0 {
-        return 0.0;
-    }
-    let f = fresnel_dielectric(om, eta);
-    let denom = om + eta * im;
-    let p = (1.0 - f) * visible_pdf(wo, m, alpha) * eta * eta * im.abs() / (denom * denom);
-    if p.is_finite() { p } else { 0.0 }
-}
-
-/// `(rough_dielectric_eval, rough_dielectric_pdf)` with the half vector, `D` and `G1(wo)` computed once: the same
-/// operations in the same order as the two functions, so the same values bit for bit.
-#[allow(clippy::too_many_arguments)]
-fn rough_dielectric_eval_pdf(
-    alpha: f32,
-    r: Vec3,
-    t: Vec3,
-    eta: f32,
-    wo: Vec3A,
-    wi: Vec3A,
-    mode: TransportMode,
-) -> (Vec3, f32) {
-    if wo.z <= 0.0 || wi.z == 0.0 {
-        // The pdf is 0 there (directions are only sampled from above).
-        return (rough_dielectric_eval(alpha, r, t, eta, wo, wi, mode), 0.0);
-    }
-    if wi.z > 0.0 {
-        // Reflection: both above, so the half vector is too (eval's flip to +z does nothing).
-        let m = (wo + wi).normalize();
-        let c = wo.dot(m);
-        let f_eval = fresnel_dielectric(c.abs(), eta);
-        let f_pdf = if c >= 0.0 { f_eval } else { fresnel_dielectric(c, eta) };
-        let (g1o, d) = (ggx_g1(wo, m, alpha), ggx_d(m, alpha));
-        let g = g1o * ggx_g1(wi, m, alpha);
-        let value = r * (f_eval * d * g / (4.0 * (wo.z * wi.z).abs()));
-        let pdf = f_pdf * (g1o * c.max(0.0) * d / wo.z) / (4.0 * c.abs());
-        return (value, pdf);
-    }
-    let Some(m) = half_transmit(wo, wi, eta) else { return (Vec3::ZERO, 0.0) };
-    let (om, im) = (wo.dot(m), wi.dot(m));
-    let (g1o, d) = (ggx_g1(wo, m, alpha), ggx_d(m, alpha));
-    let g = g1o * ggx_g1(wi, m, alpha);
-    let f_eval = fresnel_dielectric(om.abs(), eta);
-    let denom = om + eta * im;
-    let value = if g == 0.0 {
-        Vec3::ZERO
-    } else {
-        let mut v = (1.0 - f_eval) * d * g * (om * im).abs() / ((wo.z * wi.z).abs() * denom * denom);
-        if mode == TransportMode::Importance {
-            v *= eta * eta;
-        }
-        if v.is_finite() { t * v } else { Vec3::ZERO }
-    };
-    let pdf = if om <= 0.0 || im >= 0.0 {
-        0.0
-    } else {
-        // om > 0: the same Fresnel term as the value's.
-        let p = (1.0 - f_eval) * (g1o * om.max(0.0) * d / wo.z) * eta * eta * im.abs() / (denom * denom);
-        if p.is_finite() { p } else { 0.0 }
-    };
-    (value, pdf)
 }

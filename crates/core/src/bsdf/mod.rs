@@ -23,6 +23,7 @@ pub mod layered;
 mod lobe;
 pub mod microfacet;
 mod near_specular;
+mod rough_dielectric;
 pub mod rough_interface;
 
 pub use lobe::{ConductorFresnel, Lobe, LobeSample};
@@ -226,6 +227,8 @@ impl Bsdf {
                         | Lobe::RoughDielectric { .. }
                         | Lobe::Plastic { .. }
                         | Lobe::Layered { .. }
+                        | Lobe::DiffuseTransmission { .. }
+                        | Lobe::ThinDielectric { .. }
                 ))
     }
 
@@ -266,12 +269,19 @@ impl Bsdf {
     #[inline]
     pub fn has_diffuse(&self) -> bool {
         self.lobes().iter().any(|l| match l {
-            Lobe::Diffuse { .. } | Lobe::Plastic { .. } => true,
+            Lobe::Diffuse { .. } | Lobe::Plastic { .. } | Lobe::DiffuseTransmission { .. } => true,
             Lobe::Layered { spec, albedo, .. } => {
                 spec.base == layered::LayerBase::Diffuse || albedo.max_element() > 0.0
             }
             _ => false,
         })
+    }
+
+    /// True when a lobe transmits diffusely (a diffuse transmitter): light arriving on either side scatters to
+    /// both, so a density estimate counts particles that arrived on the other side.
+    #[inline]
+    pub fn transmits_diffusely(&self) -> bool {
+        self.lobes().iter().any(|l| matches!(l, Lobe::DiffuseTransmission { .. }))
     }
 
     /// True when the BSDF has a delta lobe (mirror, smooth dielectric or conductor).

@@ -11,6 +11,9 @@
 //!   is a smooth metal;
 //! - `Dielectric`: GGX rough glass (reflection + transmission, Walter et al. 2007); alpha 0 is smooth glass;
 //! - `Plastic`: a diffuse base under a GGX dielectric coat;
+//! - `DiffuseTransmission`: Lambertian reflection and transmission (pbrt-v4's `diffusetransmission`);
+//! - `ThinDielectric`: a thin slab of glass, reflection with its inter-reflections and straight transmission
+//!   (pbrt-v4's `thindielectric`);
 //! - `Coated`: pbrt-v4's stochastic layered BSDF, a dielectric coat over a diffuse or conductor base with an
 //!   optional medium between (`coateddiffuse`, `coatedconductor`; `bsdf::layered`);
 //! - `Blend`: `(1 - w) a + w b` for a scalar weight `w` in [0, 1] (constant or texture: 6.837 checkerboard, noise,
@@ -170,6 +173,24 @@ pub enum MaterialKind {
         /// The constant parameters (interned).
         spec: &'static crate::bsdf::layered::LayerSpec,
     },
+    /// Lambertian reflection `reflectance / pi` and transmission `transmittance / pi` to the other side; always
+    /// two-sided.
+    DiffuseTransmission {
+        /// Reflectance per RGB channel.
+        reflectance: ColorParam,
+        /// Transmittance per RGB channel.
+        transmittance: ColorParam,
+    },
+    /// A thin dielectric slab of index `ior`: Fresnel reflection with the slab's inter-reflections summed, the
+    /// rest transmitted straight through; always two-sided.
+    ThinDielectric {
+        /// Index of refraction of the slab over the outside.
+        ior: f32,
+        /// Filter on the reflected part, per RGB channel.
+        reflectance: ColorParam,
+        /// Filter on the transmitted part, per RGB channel.
+        transmittance: ColorParam,
+    },
     /// `(1 - weight) a + weight b`, materials by index.
     Blend {
         /// Index of the material at weight 0.
@@ -260,6 +281,8 @@ impl Material {
                         }
                     }
             }
+            MaterialKind::DiffuseTransmission { reflectance, transmittance }
+            | MaterialKind::ThinDielectric { reflectance, transmittance, .. } => c(reflectance) || c(transmittance),
             MaterialKind::Blend { a, b, weight } => x(weight) || sub(*a) || sub(*b),
             MaterialKind::NormalMap { .. } | MaterialKind::Bump { .. } => true,
         }
@@ -355,6 +378,8 @@ fn lobe_keys(ms: &[Material], id: u32, depth: usize, top: bool, out: &mut Vec<St
             };
             out.push(format!("conductor {} {f}", scalar(alpha)));
         }
+        MaterialKind::DiffuseTransmission { .. } => out.push("diffuse transmission".into()),
+        MaterialKind::ThinDielectric { ior, .. } => out.push(format!("thin dielectric {}", ior.to_bits())),
         MaterialKind::Dielectric { .. } | MaterialKind::Plastic { .. } | MaterialKind::Coated { .. } => {
             out.push(unique.clone())
         }

@@ -189,6 +189,12 @@ fn push_lobes(
                 });
             }
         }
+        MaterialKind::DiffuseTransmission { reflectance, transmittance } => {
+            bsdf.push(Lobe::DiffuseTransmission { r: color(reflectance), t: color(transmittance) });
+        }
+        MaterialKind::ThinDielectric { ior, reflectance, transmittance } => {
+            bsdf.push(Lobe::ThinDielectric { r: color(reflectance), t: color(transmittance), eta: *ior });
+        }
         MaterialKind::Coated { coat_alpha, base, albedo, spec } => {
             if side.shades(m) {
                 bsdf.push(coated_lobe(textures, at, coat_alpha, base, albedo, spec, w));

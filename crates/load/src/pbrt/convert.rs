@@ -464,7 +464,7 @@ impl Converter {
                 let kind = string(tokens, i, name, &pos)?;
                 let class = string(tokens, i, name, &pos)?;
                 let params = parse_params(tokens, i, file)?;
-                super::materials::texture(self, &n, &kind, &class, &params, &pos)?;
+                super::textures::texture(self, &n, &kind, &class, &params, &pos)?;
                 self.report_unused(name, &class, &params);
             }
             "MakeNamedMedium" | "Attribute" => {

@@ -1,8 +1,7 @@
-//! pbrt materials and textures as Prism's (the table is in `docs/guide/import-pbrt.md`). Approximations are reported
-//! once each. Roughness is remapped as the file's pbrt version does (`remaproughness`, default true): pbrt-v3's
-//! `RoughnessToAlpha` polynomial in `ln r`, pbrt-v4's `sqrt(r)`; Prism's GGX `alpha` is then pbrt's alpha.
-//! Image textures keep pbrt's orientation: meshes' uvs become `(u, 1 - v)` (pbrt flips images vertically, Prism
-//! does not), so `uscale`/`vscale`/`udelta`/`vdelta` become `uv_scale: (su, sv)`, `uv_offset: (du, 1 - sv - dv)`.
+//! pbrt materials as Prism's (the table is in `docs/guide/import-pbrt.md`; textures: `textures.rs`). Approximations
+//! are reported once each. Roughness is remapped as the file's pbrt version does (`remaproughness`, default true):
+//! pbrt-v3's `RoughnessToAlpha` polynomial in `ln r`, pbrt-v4's `sqrt(r)`; Prism's GGX `alpha` is then pbrt's
+//! alpha. Parameters that name a texture read its [`TexValue`].
 
 use super::Version;
 use super::convert::{Converter, num, quote, tuple3};
@@ -20,7 +19,7 @@ pub enum TexValue {
 /// The RON name of pbrt's `interface` material: shapes with it bound media only and are left out.
 pub const INTERFACE: &str = "#interface";
 
-fn bad(pos: &SourcePos, m: String) -> PrismError {
+pub(super) fn bad(pos: &SourcePos, m: String) -> PrismError {
     PrismError::Parse { pos: pos.clone(), message: m }
 }
 
@@ -74,22 +73,35 @@ fn check_color(v: [f64; 3], what: &str, pos: &SourcePos) -> Result<[f64; 3]> {
 
 /// A colour parameter as RON (`(r, g, b)` or `Map(...)`).
 pub fn color(c: &mut Converter, p: &Params, name: &str, default: [f64; 3], pos: &SourcePos) -> Result<String> {
+    color_scaled(c, p, name, default, 1.0, pos)
+}
+
+/// [`color`] times `factor` (a material's `scale`).
+fn color_scaled(
+    c: &mut Converter,
+    p: &Params,
+    name: &str,
+    default: [f64; 3],
+    factor: f64,
+    pos: &SourcePos,
+) -> Result<String> {
     let pos = p.pos_of(name).unwrap_or_else(|| pos.clone());
+    let times = |v: [f64; 3]| v.map(|x| x * factor);
     match p.spectrum(name)? {
-        None => Ok(tuple3(default)),
+        None => Ok(tuple3(times(default))),
         Some(SpectrumParam::Texture(t)) => {
             let v = c.tex_values.get(&(false, t.clone())).or_else(|| c.tex_values.get(&(true, t.clone()))).cloned();
             match v {
-                Some(TexValue::Const(k)) => Ok(tuple3(k)),
+                Some(TexValue::Const(k)) => Ok(tuple3(times(k))),
                 Some(TexValue::Image { ron, scale }) => {
-                    Ok(format!("Map(texture: {}, scale: {})", quote(&ron), tuple3(scale)))
+                    Ok(format!("Map(texture: {}, scale: {})", quote(&ron), tuple3(times(scale))))
                 }
                 None => Err(bad(&pos, format!("parameter \"{name}\": unknown texture \"{t}\""))),
             }
         }
         Some(s) => {
             let v = spectrum_rgb(c, &s, name, &pos)?.expect("not a texture");
-            Ok(tuple3(check_color(v, name, &pos)?))
+            Ok(tuple3(times(check_color(v, name, &pos)?)))
         }
     }
 }
@@ -276,10 +288,17 @@ pub fn material(c: &mut Converter, ty: &str, p: &Params, pos: &SourcePos, named:
         }
         "diffuse" => format!("Lambert(albedo: {})", color(c, p, "reflectance", [0.5; 3], pos)?),
         "mirror" => format!("Mirror(reflectance: {})", color(c, p, "Kr", [0.9; 3], pos)?),
-        "glass" | "dielectric" | "thindielectric" => {
-            if ty == "thindielectric" {
-                approx(c, "a (thick) dielectric");
+        "thindielectric" => format!("ThinDielectric(ior: {})", num(ior(c, p, 1.5, pos)?)),
+        "diffusetransmission" => {
+            let scale = p.float("scale", 1.0)?;
+            if !(scale.is_finite() && scale >= 0.0) {
+                return Err(bad(&p.pos_of("scale").unwrap_or(pos.clone()), format!("scale must be >= 0, got {scale}")));
             }
+            let r = color_scaled(c, p, "reflectance", [0.25; 3], scale, pos)?;
+            let t = color_scaled(c, p, "transmittance", [0.25; 3], scale, pos)?;
+            format!("DiffuseTransmission(reflectance: {r}, transmittance: {t})")
+        }
+        "glass" | "dielectric" => {
             let eta = ior(c, p, 1.5, pos)?;
             let a = alpha(c, p, 0.0, pos)?;
             let (kr, kt) = if ty == "glass" {
@@ -494,131 +513,4 @@ fn alpha_prefixed(c: &mut Converter, p: &Params, prefix: &str, pos: &SourcePos) 
         q.list.extend(p.list.iter().filter(|i| i.name == "remaproughness").cloned());
     }
     alpha(c, &q, 0.0, pos)
-}
-
-/// `Texture "name" "float"|"spectrum" "class" ...`.
-pub fn texture(c: &mut Converter, name: &str, kind: &str, class: &str, p: &Params, pos: &SourcePos) -> Result<()> {
-    let float = match kind {
-        "float" => true,
-        "spectrum" | "color" | "rgb" => false,
-        other => {
-            return Err(bad(pos, format!("Texture \"{name}\": unknown texture type \"{other}\" (float or spectrum)")));
-        }
-    };
-    let lookup = |c: &Converter, key: &str, default: [f64; 3]| -> Result<TexValue> {
-        Ok(match (p.spectrum(key)?, p.float_or_texture(key).ok().flatten()) {
-            (Some(SpectrumParam::Texture(t)), _) | (_, Some(FloatParam::Texture(t))) => c
-                .tex_values
-                .get(&(float, t.clone()))
-                .or_else(|| c.tex_values.get(&(!float, t.clone())))
-                .cloned()
-                .ok_or_else(|| bad(pos, format!("Texture \"{name}\": unknown texture \"{t}\"")))?,
-            (Some(SpectrumParam::Rgb(v)), _) => TexValue::Const(v),
-            (_, Some(FloatParam::Value(v))) => TexValue::Const([v; 3]),
-            _ => TexValue::Const(default),
-        })
-    };
-    let value = match class {
-        "imagemap" => {
-            let f = p
-                .string("filename")?
-                .ok_or_else(|| bad(pos, format!("Texture \"{name}\": imagemap needs \"string filename\"")))?;
-            let path = c.resolve(&f);
-            if !path.is_file() {
-                return Err(bad(
-                    &p.pos_of("filename").unwrap_or(pos.clone()),
-                    format!("Texture \"{name}\": image not found: {}", path.display()),
-                ));
-            }
-            let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
-            let eight_bit = matches!(ext.as_str(), "png" | "tga" | "jpg" | "jpeg" | "bmp");
-            let srgb = match (c.version, p.string("encoding")?) {
-                (_, Some(e)) => e == "sRGB",
-                (Version::V3, None) => p.bool("gamma", eight_bit)?,
-                (Version::V4, None) => eight_bit,
-            };
-            p.has("gamma");
-            let (su, sv) = (p.float("uscale", 1.0)?, p.float("vscale", 1.0)?);
-            let (du, dv) = (p.float("udelta", 0.0)?, p.float("vdelta", 0.0)?);
-            let wrap = match p.string("wrap")?.as_deref() {
-                None | Some("repeat") => "repeat",
-                Some("clamp") => "clamp",
-                Some("black") => {
-                    c.warn("texture wrap \"black\" is approximated by \"clamp\"");
-                    "clamp"
-                }
-                Some(other) => return Err(bad(pos, format!("Texture \"{name}\": unknown wrap mode \"{other}\""))),
-            };
-            if p.bool("invert", false)? {
-                c.warn("texture \"invert\" is ignored");
-            }
-            if let Some(m) = p.string("mapping")?
-                && m != "uv"
-            {
-                c.warn(format!("texture mapping \"{m}\" is approximated by the uv mapping"));
-            }
-            for q in ["filter", "maxanisotropy", "trilinear"] {
-                p.has(q);
-            }
-            let scale = p.float("scale", 1.0)?;
-            let ron = format!("{}:{name}", if float { "f" } else { "s" });
-            c.textures.insert(
-                ron.clone(),
-                format!(
-                    "Image(path: {}, raw: {}, wrap: {wrap}, uv_scale: ({}, {}), uv_offset: ({}, {}))",
-                    quote(&c.ron_path(&path)),
-                    !srgb,
-                    num(su),
-                    num(sv),
-                    num(du),
-                    num(1.0 - sv - dv)
-                ),
-            );
-            TexValue::Image { ron, scale: [scale.max(0.0); 3] }
-        }
-        "constant" => lookup(c, "value", [1.0; 3])?,
-        "scale" => {
-            let (a, b) = if p.has("tex1") { ("tex1", "tex2") } else { ("tex", "scale") };
-            match (lookup(c, a, [1.0; 3])?, lookup(c, b, [1.0; 3])?) {
-                (TexValue::Const(x), TexValue::Const(y)) => TexValue::Const([x[0] * y[0], x[1] * y[1], x[2] * y[2]]),
-                (TexValue::Image { ron, scale }, TexValue::Const(k))
-                | (TexValue::Const(k), TexValue::Image { ron, scale }) => {
-                    TexValue::Image { ron, scale: [scale[0] * k[0], scale[1] * k[1], scale[2] * k[2]] }
-                }
-                (img, _) => {
-                    c.warn("a \"scale\" texture of two image textures keeps the first only");
-                    img
-                }
-            }
-        }
-        "mix" | "directionmix" | "checkerboard" => {
-            let (a, b) = ("tex1", "tex2");
-            let (x, y) = (lookup(c, a, [0.0; 3])?, lookup(c, b, [1.0; 3])?);
-            let t = if class == "checkerboard" { 0.5 } else { p.float("amount", 0.5).unwrap_or(0.5) };
-            for q in p.list.iter().map(|q| q.name.clone()).collect::<Vec<_>>() {
-                p.has(&q);
-            }
-            match (x, y) {
-                (TexValue::Const(x), TexValue::Const(y)) => {
-                    if class != "mix" {
-                        c.warn(format!("texture \"{class}\" is approximated by the mean of its two values"));
-                    }
-                    TexValue::Const([0, 1, 2].map(|k| (1.0 - t) * x[k] + t * y[k]))
-                }
-                (img @ TexValue::Image { .. }, _) | (_, img @ TexValue::Image { .. }) => {
-                    c.warn(format!("texture \"{class}\" of an image texture keeps that image only"));
-                    img
-                }
-            }
-        }
-        other => {
-            c.warn(format!("texture \"{other}\" is approximated by a constant 0.5"));
-            for q in p.list.iter().map(|q| q.name.clone()).collect::<Vec<_>>() {
-                p.has(&q);
-            }
-            TexValue::Const([0.5; 3])
-        }
-    };
-    c.tex_values.insert((float, name.to_string()), value);
-    Ok(())
 }

@@ -26,6 +26,7 @@ mod params;
 mod scene_wide;
 mod shapes;
 pub mod spectrum;
+mod textures;
 
 pub use materials::roughness_to_alpha_v3;
 

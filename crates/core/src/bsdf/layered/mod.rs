@@ -3,7 +3,7 @@
 //! optional scattering medium between them, two-sided. pbrt's `coateddiffuse` and `coatedconductor`.
 //!
 //! Nothing is tabulated: the value, the density and the sample are each a random walk between the two
-//! interfaces ([`interface`]), as pbrt computes them, so the walk's random numbers are drawn from a generator
+//! interfaces (`interface.rs`), as pbrt computes them, so the walk's random numbers are drawn from a generator
 //! seeded by a hash of the directions (pbrt does the same): the same `(wo, wi)` always gives the same estimate,
 //! and a render stays deterministic whatever the threads.
 //!

@@ -1,0 +1,137 @@
+//! pbrt textures as Prism's: `imagemap` as an image texture (pbrt's orientation kept: meshes' uvs become
+//! `(u, 1 - v)`, so `uscale`/`vscale`/`udelta`/`vdelta` become `uv_scale: (su, sv)`, `uv_offset: (du, 1 - sv - dv)`),
+//! `constant` and `scale` folded into the value or the image's factor; the procedural textures are approximated
+//! (one warning each). Materials read a texture's [`TexValue`].
+
+use super::Version;
+use super::convert::{Converter, num, quote};
+use super::materials::{TexValue, bad};
+use super::params::{FloatParam, Params, SpectrumParam};
+use prism_core::error::{Result, SourcePos};
+
+/// `Texture "name" "float"|"spectrum" "class" ...`.
+pub fn texture(c: &mut Converter, name: &str, kind: &str, class: &str, p: &Params, pos: &SourcePos) -> Result<()> {
+    let float = match kind {
+        "float" => true,
+        "spectrum" | "color" | "rgb" => false,
+        other => {
+            return Err(bad(pos, format!("Texture \"{name}\": unknown texture type \"{other}\" (float or spectrum)")));
+        }
+    };
+    let lookup = |c: &Converter, key: &str, default: [f64; 3]| -> Result<TexValue> {
+        Ok(match (p.spectrum(key)?, p.float_or_texture(key).ok().flatten()) {
+            (Some(SpectrumParam::Texture(t)), _) | (_, Some(FloatParam::Texture(t))) => c
+                .tex_values
+                .get(&(float, t.clone()))
+                .or_else(|| c.tex_values.get(&(!float, t.clone())))
+                .cloned()
+                .ok_or_else(|| bad(pos, format!("Texture \"{name}\": unknown texture \"{t}\"")))?,
+            (Some(SpectrumParam::Rgb(v)), _) => TexValue::Const(v),
+            (_, Some(FloatParam::Value(v))) => TexValue::Const([v; 3]),
+            _ => TexValue::Const(default),
+        })
+    };
+    let value = match class {
+        "imagemap" => {
+            let f = p
+                .string("filename")?
+                .ok_or_else(|| bad(pos, format!("Texture \"{name}\": imagemap needs \"string filename\"")))?;
+            let path = c.resolve(&f);
+            if !path.is_file() {
+                return Err(bad(
+                    &p.pos_of("filename").unwrap_or(pos.clone()),
+                    format!("Texture \"{name}\": image not found: {}", path.display()),
+                ));
+            }
+            let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
+            let eight_bit = matches!(ext.as_str(), "png" | "tga" | "jpg" | "jpeg" | "bmp");
+            let srgb = match (c.version, p.string("encoding")?) {
+                (_, Some(e)) => e == "sRGB",
+                (Version::V3, None) => p.bool("gamma", eight_bit)?,
+                (Version::V4, None) => eight_bit,
+            };
+            p.has("gamma");
+            let (su, sv) = (p.float("uscale", 1.0)?, p.float("vscale", 1.0)?);
+            let (du, dv) = (p.float("udelta", 0.0)?, p.float("vdelta", 0.0)?);
+            let wrap = match p.string("wrap")?.as_deref() {
+                None | Some("repeat") => "repeat",
+                Some("clamp") => "clamp",
+                Some("black") => {
+                    c.warn("texture wrap \"black\" is approximated by \"clamp\"");
+                    "clamp"
+                }
+                Some(other) => return Err(bad(pos, format!("Texture \"{name}\": unknown wrap mode \"{other}\""))),
+            };
+            if p.bool("invert", false)? {
+                c.warn("texture \"invert\" is ignored");
+            }
+            if let Some(m) = p.string("mapping")?
+                && m != "uv"
+            {
+                c.warn(format!("texture mapping \"{m}\" is approximated by the uv mapping"));
+            }
+            for q in ["filter", "maxanisotropy", "trilinear"] {
+                p.has(q);
+            }
+            let scale = p.float("scale", 1.0)?;
+            let ron = format!("{}:{name}", if float { "f" } else { "s" });
+            c.textures.insert(
+                ron.clone(),
+                format!(
+                    "Image(path: {}, raw: {}, wrap: {wrap}, uv_scale: ({}, {}), uv_offset: ({}, {}))",
+                    quote(&c.ron_path(&path)),
+                    !srgb,
+                    num(su),
+                    num(sv),
+                    num(du),
+                    num(1.0 - sv - dv)
+                ),
+            );
+            TexValue::Image { ron, scale: [scale.max(0.0); 3] }
+        }
+        "constant" => lookup(c, "value", [1.0; 3])?,
+        "scale" => {
+            let (a, b) = if p.has("tex1") { ("tex1", "tex2") } else { ("tex", "scale") };
+            match (lookup(c, a, [1.0; 3])?, lookup(c, b, [1.0; 3])?) {
+                (TexValue::Const(x), TexValue::Const(y)) => TexValue::Const([x[0] * y[0], x[1] * y[1], x[2] * y[2]]),
+                (TexValue::Image { ron, scale }, TexValue::Const(k))
+                | (TexValue::Const(k), TexValue::Image { ron, scale }) => {
+                    TexValue::Image { ron, scale: [scale[0] * k[0], scale[1] * k[1], scale[2] * k[2]] }
+                }
+                (img, _) => {
+                    c.warn("a \"scale\" texture of two image textures keeps the first only");
+                    img
+                }
+            }
+        }
+        "mix" | "directionmix" | "checkerboard" => {
+            let (a, b) = ("tex1", "tex2");
+            let (x, y) = (lookup(c, a, [0.0; 3])?, lookup(c, b, [1.0; 3])?);
+            let t = if class == "checkerboard" { 0.5 } else { p.float("amount", 0.5).unwrap_or(0.5) };
+            for q in p.list.iter().map(|q| q.name.clone()).collect::<Vec<_>>() {
+                p.has(&q);
+            }
+            match (x, y) {
+                (TexValue::Const(x), TexValue::Const(y)) => {
+                    if class != "mix" {
+                        c.warn(format!("texture \"{class}\" is approximated by the mean of its two values"));
+                    }
+                    TexValue::Const([0, 1, 2].map(|k| (1.0 - t) * x[k] + t * y[k]))
+                }
+                (img @ TexValue::Image { .. }, _) | (_, img @ TexValue::Image { .. }) => {
+                    c.warn(format!("texture \"{class}\" of an image texture keeps that image only"));
+                    img
+                }
+            }
+        }
+        other => {
+            c.warn(format!("texture \"{other}\" is approximated by a constant 0.5"));
+            for q in p.list.iter().map(|q| q.name.clone()).collect::<Vec<_>>() {
+                p.has(&q);
+            }
+            TexValue::Const([0.5; 3])
+        }
+    };
+    c.tex_values.insert((float, name.to_string()), value);
+    Ok(())
+}
