@@ -161,3 +161,30 @@ fn texture_transform_scales_then_rotates_counter_clockwise_on_the_displayed_imag
     let uv = Vec2::new(0.3, 0.7);
     assert_eq!(plain.transform_uv(uv), uv * Vec2::new(3.0, 0.5) + Vec2::new(0.1, 0.2));
 }
+
+/// Texture memory: 8-bit images stay 8-bit. NormalTangentTest holds three 2048 x 2048 RGB PNGs (36 MiB decoded as
+/// 8-bit); its base colour, metallic-roughness (as metallic, and its roughness as GGX alpha) and normal maps take
+/// at most 1.5 times that (as f32 texels they took four times as much).
+#[test]
+fn eight_bit_textures_are_stored_as_eight_bits() {
+    let path = data("gltf").join("NormalTangentTest.glb");
+    let mut app = crate::common::app_from_file(&path, Overrides::default());
+    app.run_stage(prism::Stage::Load).expect("loads");
+    let mut seen: Vec<*const prism::texture::TexImage> = Vec::new();
+    let mut bytes = 0usize;
+    for t in &app.resources.textures.textures {
+        if let prism::texture::Texture::Image(m) = t
+            && !seen.contains(&std::sync::Arc::as_ptr(&m.image))
+        {
+            seen.push(std::sync::Arc::as_ptr(&m.image));
+            bytes += m.image.texel_bytes();
+        }
+    }
+    let decoded_8bit = 3 * 2048 * 2048 * 3;
+    assert!(!seen.is_empty(), "the model's textures were loaded");
+    assert!(
+        bytes as f64 <= 1.5 * decoded_8bit as f64,
+        "{} images take {bytes} bytes, more than 1.5x the {decoded_8bit} of the decoded 8-bit images",
+        seen.len()
+    );
+}

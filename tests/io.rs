@@ -385,6 +385,6 @@ fn tga_textures_decode() {
     let tex = prism::texture::TexImage::load(&crate::common::data("bitterli/classroom/textures/wood1.tga"), false)
         .unwrap_or_else(|e| panic!("{e}"));
     assert!(tex.width > 0 && tex.height > 0);
-    let mean = tex.texels.iter().fold(glam::Vec3::ZERO, |a, t| a + *t) / tex.texels.len() as f32;
+    let mean = tex.iter().fold(glam::Vec3::ZERO, |a, t| a + t) / tex.len() as f32;
     assert!(mean.x > mean.z && mean.max_element() < 1.0 && mean.min_element() > 0.0, "{mean}");
 }

@@ -483,9 +483,9 @@ fn finite3(v: V3, what: &str, c: &Ctx) -> Result<Vec3> {
 
 /// A normal map whose texels decode (`2 c - 1`) to vectors of (nearly) zero length has no direction there.
 fn check_normal_map(img: &TexImage, texture: &str, c: &Ctx) -> Result<()> {
-    if let Some(i) = img.texels.iter().position(|t| (2.0 * *t - Vec3::ONE).length() < 0.05) {
+    if let Some(i) = img.iter().position(|t| (2.0 * t - Vec3::ONE).length() < 0.05) {
         let (row, col) = (i as u32 / img.width, i as u32 % img.width);
-        let t = img.texels[i];
+        let t = img.texel_at(i);
         return Err(c.err(format!(
             "normal map '{texture}': texel (row {row}, column {col}) = {:?} decodes to a zero-length normal (is \
              this a colour image, or saved with sRGB decoding? normal maps need `raw: true`)",

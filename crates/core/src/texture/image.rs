@@ -11,6 +11,10 @@
 //!
 //! A uv transform `uv' = uv * scale + offset` is applied before the lookup. Images are decoded once per (file,
 //! raw) and shared between the textures and materials that use them.
+//!
+//! Storage: texels are kept as the file gave them. 8-bit images stay 8-bit (3 bytes a texel, 1 for grey ones),
+//! decoded through a table of the 256 values at each lookup (the same values the decoded texels had, so lookups
+//! are unchanged bit for bit); float and 16-bit images are linear f32 RGB.
 
 use crate::error::{PrismError, Result};
 use crate::io::srgb_to_linear;
@@ -60,17 +64,86 @@ impl Wrap {
     }
 }
 
-/// A decoded image: linear RGB texels, row 0 at the top.
-#[derive(Clone, Debug, PartialEq)]
+/// The decoded value of each byte: `byte / 255` for data, sRGB-decoded for colour.
+type ByteTable = [f32; 256];
+
+/// `byte / 255`.
+static RAW_TABLE: std::sync::LazyLock<ByteTable> =
+    std::sync::LazyLock::new(|| std::array::from_fn(|b| b as f32 / 255.0));
+/// `srgb_to_linear(byte / 255)`.
+static SRGB_TABLE: std::sync::LazyLock<ByteTable> =
+    std::sync::LazyLock::new(|| std::array::from_fn(|b| srgb_to_linear(b as f32 / 255.0)));
+/// `(byte / 255)^2`: a glTF roughness map as GGX alpha.
+static SQUARED_TABLE: std::sync::LazyLock<ByteTable> = std::sync::LazyLock::new(|| {
+    std::array::from_fn(|b| {
+        let c = b as f32 / 255.0;
+        c * c
+    })
+});
+
+/// How an 8-bit image's bytes decode.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ByteDecoding {
+    /// `byte / 255` (data maps: normal, roughness, height, alpha).
+    Raw,
+    /// sRGB-decoded `byte / 255` (colour).
+    Srgb,
+    /// `(byte / 255)^2` (a roughness map used as GGX alpha).
+    Squared,
+}
+
+impl ByteDecoding {
+    fn table(self) -> &'static ByteTable {
+        match self {
+            ByteDecoding::Raw => &RAW_TABLE,
+            ByteDecoding::Srgb => &SRGB_TABLE,
+            ByteDecoding::Squared => &SQUARED_TABLE,
+        }
+    }
+}
+
+/// Texel storage (see the module doc).
+#[derive(Clone)]
+enum Texels {
+    /// Linear RGB.
+    Rgb32(Vec<Vec3>),
+    /// 8-bit RGB decoded through a table.
+    Rgb8 { bytes: Vec<[u8; 3]>, table: &'static ByteTable },
+    /// 8-bit grey decoded through a table.
+    Gray8 { bytes: Vec<u8>, table: &'static ByteTable },
+}
+
+impl std::fmt::Debug for Texels {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Texels::Rgb32(t) => write!(f, "Rgb32({} texels)", t.len()),
+            Texels::Rgb8 { bytes, .. } => write!(f, "Rgb8({} texels)", bytes.len()),
+            Texels::Gray8 { bytes, .. } => write!(f, "Gray8({} texels)", bytes.len()),
+        }
+    }
+}
+
+/// A decoded image: RGB texels (8-bit as stored, or linear f32), row 0 at the top.
+#[derive(Clone, Debug)]
 pub struct TexImage {
     /// Width in texels (1 to [`MAX_TEXTURE_SIZE`] for loaded files).
     pub width: u32,
     /// Height in texels (1 to [`MAX_TEXTURE_SIZE`] for loaded files).
     pub height: u32,
-    /// `width * height` linear RGB texels, row-major from the top row, all finite.
-    pub texels: Vec<Vec3>,
+    /// `width * height` texels, row-major from the top row, all finite once decoded.
+    texels: Texels,
     /// The file had one (grey) channel: every texel has r = g = b.
     pub gray: bool,
+}
+
+impl PartialEq for TexImage {
+    /// Equal sizes and equal decoded texels.
+    fn eq(&self, other: &Self) -> bool {
+        self.width == other.width
+            && self.height == other.height
+            && self.gray == other.gray
+            && self.iter().zip(other.iter()).all(|(a, b)| a == b)
+    }
 }
 
 impl TexImage {
@@ -83,7 +156,48 @@ impl TexImage {
                 texels.len()
             )));
         }
-        Ok(TexImage { width, height, texels, gray: false })
+        Ok(TexImage { width, height, texels: Texels::Rgb32(texels), gray: false })
+    }
+
+    /// Number of texels (`width * height`).
+    pub fn len(&self) -> usize {
+        match &self.texels {
+            Texels::Rgb32(t) => t.len(),
+            Texels::Rgb8 { bytes, .. } => bytes.len(),
+            Texels::Gray8 { bytes, .. } => bytes.len(),
+        }
+    }
+
+    /// True for an image without texels (never for a loaded one).
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Texel `i` (row-major from the top row), decoded to linear RGB.
+    #[inline]
+    pub fn texel_at(&self, i: usize) -> Vec3 {
+        match &self.texels {
+            Texels::Rgb32(t) => t[i],
+            Texels::Rgb8 { bytes, table } => {
+                let b = bytes[i];
+                Vec3::new(table[b[0] as usize], table[b[1] as usize], table[b[2] as usize])
+            }
+            Texels::Gray8 { bytes, table } => Vec3::splat(table[bytes[i] as usize]),
+        }
+    }
+
+    /// Every texel, decoded, row-major from the top row.
+    pub fn iter(&self) -> impl Iterator<Item = Vec3> + '_ {
+        (0..self.len()).map(|i| self.texel_at(i))
+    }
+
+    /// Bytes the texels take in memory.
+    pub fn texel_bytes(&self) -> usize {
+        match &self.texels {
+            Texels::Rgb32(t) => t.len() * std::mem::size_of::<Vec3>(),
+            Texels::Rgb8 { bytes, .. } => bytes.len() * 3,
+            Texels::Gray8 { bytes, .. } => bytes.len(),
+        }
     }
 
     /// Read an image file. `raw`: keep 8/16-bit values as stored (data maps); otherwise decode them from sRGB.
@@ -92,11 +206,11 @@ impl TexImage {
         let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
         let img = if ext == "exr" {
             let im = crate::io::read_exr(path)?;
-            TexImage { width: im.width, height: im.height, texels: im.pixels, gray: false }
+            TexImage { width: im.width, height: im.height, texels: Texels::Rgb32(im.pixels), gray: false }
         } else {
             Self::decode(path, raw)?
         };
-        if img.width == 0 || img.height == 0 || img.texels.len() != img.width as usize * img.height as usize {
+        if img.width == 0 || img.height == 0 || img.len() != img.width as usize * img.height as usize {
             return Err(PrismError::format(path, format!("texture has no pixels ({}x{})", img.width, img.height)));
         }
         if img.width > MAX_TEXTURE_SIZE || img.height > MAX_TEXTURE_SIZE {
@@ -105,7 +219,7 @@ impl TexImage {
                 format!("texture is {}x{}, larger than {MAX_TEXTURE_SIZE} on a side", img.width, img.height),
             ));
         }
-        if let Some(i) = img.texels.iter().position(|t| !t.is_finite()) {
+        if let Some(i) = img.iter().position(|t| !t.is_finite()) {
             return Err(PrismError::format(
                 path,
                 format!("texel (row {}, column {}) is NaN or infinite", i as u32 / img.width, i as u32 % img.width),
@@ -148,36 +262,54 @@ impl TexImage {
         Ok(img)
     }
 
-    /// The texels of a decoded image: 8- and 16-bit values decoded from sRGB unless `raw`, float images as they are.
+    /// The texels of a decoded image: 8-bit images kept as bytes (decoded from sRGB at lookup unless `raw`), 16-bit
+    /// ones decoded to f32 (from sRGB unless `raw`), float images as they are.
     pub fn from_dynamic(dynimg: &image::DynamicImage, raw: bool) -> Self {
         use image::ColorType as C;
         let color = dynimg.color();
         let gray = matches!(color, C::L8 | C::La8 | C::L16 | C::La16);
         let float = matches!(color, C::Rgb32F | C::Rgba32F);
         let (w, h) = (dynimg.width(), dynimg.height());
-        let texels: Vec<Vec3> = if float {
-            dynimg.to_rgb32f().pixels().map(|p| Vec3::new(p[0], p[1], p[2])).collect()
+        let texels = if float {
+            Texels::Rgb32(dynimg.to_rgb32f().pixels().map(|p| Vec3::new(p[0], p[1], p[2])).collect())
         } else if matches!(color, C::L16 | C::La16 | C::Rgb16 | C::Rgba16) {
             let dec = |v: u16| {
                 let c = v as f32 / 65535.0;
                 if raw { c } else { srgb_to_linear(c) }
             };
-            dynimg.to_rgb16().pixels().map(|p| Vec3::new(dec(p[0]), dec(p[1]), dec(p[2]))).collect()
+            Texels::Rgb32(dynimg.to_rgb16().pixels().map(|p| Vec3::new(dec(p[0]), dec(p[1]), dec(p[2]))).collect())
         } else {
-            // A table of the 256 decoded byte values: exact, and fast for large images.
-            let table: Vec<f32> = (0..256u32)
-                .map(|b| {
-                    let c = b as f32 / 255.0;
-                    if raw { c } else { srgb_to_linear(c) }
-                })
-                .collect();
-            dynimg
-                .to_rgb8()
-                .pixels()
-                .map(|p| Vec3::new(table[p[0] as usize], table[p[1] as usize], table[p[2] as usize]))
-                .collect()
+            let table = if raw { ByteDecoding::Raw } else { ByteDecoding::Srgb }.table();
+            if gray {
+                Texels::Gray8 { bytes: dynimg.to_luma8().into_raw(), table }
+            } else {
+                Texels::Rgb8 { bytes: dynimg.to_rgb8().pixels().map(|p| p.0).collect(), table }
+            }
         };
         TexImage { width: w, height: h, texels, gray }
+    }
+
+    /// One channel (0 red, 1 green, 2 blue) of a decoded image as a grey image, decoded by `decoding` (8-bit
+    /// images stay 8-bit; the others' linear values are decoded the same way).
+    pub fn channel_from_dynamic(dynimg: &image::DynamicImage, channel: usize, decoding: ByteDecoding) -> Self {
+        use image::ColorType as C;
+        let (w, h) = (dynimg.width(), dynimg.height());
+        let texels = match dynimg.color() {
+            C::L8 | C::La8 => Texels::Gray8 { bytes: dynimg.to_luma8().into_raw(), table: decoding.table() },
+            C::Rgb8 | C::Rgba8 => Texels::Gray8 {
+                bytes: dynimg.to_rgb8().pixels().map(|p| p[channel.min(2)]).collect(),
+                table: decoding.table(),
+            },
+            _ => {
+                let f = |c: f32| match decoding {
+                    ByteDecoding::Raw => c,
+                    ByteDecoding::Srgb => srgb_to_linear(c),
+                    ByteDecoding::Squared => c * c,
+                };
+                Texels::Rgb32(dynimg.to_rgb32f().pixels().map(|p| Vec3::splat(f(p[channel.min(2)]))).collect())
+            }
+        };
+        TexImage { width: w, height: h, texels, gray: true }
     }
 
     /// The alpha channel of a decoded image as a grey image (linear: alpha is never sRGB-encoded), or `None` when
@@ -186,13 +318,13 @@ impl TexImage {
         if !dynimg.color().has_alpha() {
             return None;
         }
-        let texels = dynimg.to_rgba32f().pixels().map(|p| Vec3::splat(p[3])).collect();
-        Some(TexImage { width: dynimg.width(), height: dynimg.height(), texels, gray: true })
-    }
-
-    #[inline]
-    fn texel(&self, row: usize, col: usize) -> Vec3 {
-        self.texels[row * self.width as usize + col]
+        let (w, h) = (dynimg.width(), dynimg.height());
+        let texels = if matches!(dynimg.color(), image::ColorType::La8 | image::ColorType::Rgba8) {
+            Texels::Gray8 { bytes: dynimg.to_rgba8().pixels().map(|p| p[3]).collect(), table: &RAW_TABLE }
+        } else {
+            Texels::Rgb32(dynimg.to_rgba32f().pixels().map(|p| Vec3::splat(p[3])).collect())
+        };
+        Some(TexImage { width: w, height: h, texels, gray: true })
     }
 
     /// Bilinear lookup at `uv` (texel centres at half-integers, v downwards), indices wrapped by `wrap`.
@@ -209,10 +341,18 @@ impl TexImage {
         let (x0, y0) = (x0.clamp(-1e9, 1e9) as i64, y0.clamp(-1e9, 1e9) as i64);
         let (c0, c1) = wrap.index_pair(x0, self.width);
         let (r0, r1) = wrap.index_pair(y0, self.height);
-        (1.0 - fx) * (1.0 - fy) * self.texel(r0, c0)
-            + fx * (1.0 - fy) * self.texel(r0, c1)
-            + (1.0 - fx) * fy * self.texel(r1, c0)
-            + fx * fy * self.texel(r1, c1)
+        let w = self.width as usize;
+        let idx = [r0 * w + c0, r0 * w + c1, r1 * w + c0, r1 * w + c1];
+        // One match for the four texels.
+        let [t00, t01, t10, t11] = match &self.texels {
+            Texels::Rgb32(t) => idx.map(|i| t[i]),
+            Texels::Rgb8 { bytes, table } => idx.map(|i| {
+                let b = bytes[i];
+                Vec3::new(table[b[0] as usize], table[b[1] as usize], table[b[2] as usize])
+            }),
+            Texels::Gray8 { bytes, table } => idx.map(|i| Vec3::splat(table[bytes[i] as usize])),
+        };
+        (1.0 - fx) * (1.0 - fy) * t00 + fx * (1.0 - fy) * t01 + (1.0 - fx) * fy * t10 + fx * fy * t11
     }
 }
 

@@ -10,7 +10,7 @@ mod image;
 pub mod perlin;
 mod solid;
 
-pub use image::{ImageMap, MAX_TEXTURE_SIZE, TexImage, Wrap};
+pub use image::{ByteDecoding, ImageMap, MAX_TEXTURE_SIZE, TexImage, Wrap};
 pub use solid::{Solid, SolidKind};
 
 use glam::{Vec2, Vec3, Vec3A};

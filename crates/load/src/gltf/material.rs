@@ -26,7 +26,7 @@ use crate::schema::{ColorDesc, MaterialDesc, ScalarDesc, ScaleDesc, TextureRef};
 use glam::{Vec2, Vec3};
 use prism_core::alpha::{AlphaMask, AlphaMode};
 use prism_core::error::{PrismError, Result};
-use prism_core::texture::{Channel, ImageMap, TexImage, Texture, Wrap};
+use prism_core::texture::{ByteDecoding, Channel, ImageMap, TexImage, Texture, Wrap};
 use prism_engine::Resources;
 use std::collections::{BTreeMap, BTreeSet, HashMap};
 use std::path::{Path, PathBuf};
@@ -139,12 +139,8 @@ impl<'a> Materials<'a> {
                 Some(a) => a,
                 None => return Ok(None),
             },
-            Variant::RoughnessAlpha => {
-                let mut t = TexImage::from_dynamic(&d, true);
-                t.texels.iter_mut().for_each(|c| *c = Vec3::splat(c.y * c.y));
-                t.gray = true;
-                t
-            }
+            // The green channel (roughness) squared: GGX alpha.
+            Variant::RoughnessAlpha => TexImage::channel_from_dynamic(&d, 1, ByteDecoding::Squared),
         };
         let t = Arc::new(t);
         self.variants.insert((img.index(), v), t.clone());
