@@ -526,3 +526,34 @@ fn cylinders_and_partial_disks_have_pbrts_surface_area_and_outward_normals() {
         assert!((b - a).cross(c - a).dot(glam::Vec3::new(centre.x, centre.y, 0.0)) > 0.0, "inward triangle");
     }
 }
+
+#[test]
+fn curves_become_tubes_of_their_width_around_pbrts_bezier_segments() {
+    // A straight cubic Bézier along x (one segment) and a three-segment B-spline, both of width 0.2.
+    let text = format!(
+        "{HEAD_V4}WorldBegin\nShape \"curve\" \"string type\" \"cylinder\" \"point3 P\" [0 0 0 1 0 0 2 0 0 3 0 0] \"float width\" 0.2\n\
+         Shape \"curve\" \"string basis\" \"bspline\" \"point3 P\" [0 0 5 1 0 5 2 0 5 3 0 5 4 0 5 5 0 5] \"float width\" 0.2\n"
+    );
+    let ron = ron_of(&write("curves.pbrt", &text));
+    let d = desc(&ron);
+    assert_eq!(d.meshes.len(), 2, "one mesh per curve");
+    let per_segment = 2 * 4 * 6;
+    let mut counts: Vec<usize> = d.meshes.values().map(|m| m.indices.len()).collect();
+    counts.sort();
+    assert_eq!(counts, vec![per_segment, 3 * per_segment], "1 and 3 segments (a B-spline of 6 points has 3)");
+    for m in d.meshes.values() {
+        for (v, n) in m.positions.iter().zip(&m.normals) {
+            let radial = (v[1] * v[1] + (v[2] - if v[2] > 2.5 { 5.0 } else { 0.0 }).powi(2)).sqrt();
+            assert!((radial - 0.1).abs() < 1e-5, "vertex {v:?} is {radial} from the axis, not half the width");
+            assert!(n[0].abs() < 1e-5, "a straight tube's normals are radial: {n:?}");
+        }
+    }
+    // pbrt's B-spline segments end at the knots' averages: the 6-point spline spans x in [1, 4].
+    let xs = d.meshes.values().filter(|m| m.positions[0][2] > 2.5).flat_map(|m| m.positions.iter().map(|v| v[0]));
+    let (lo, hi) = xs.fold((f32::MAX, f32::MIN), |(a, b), x| (a.min(x), b.max(x)));
+    assert!((lo - 1.0).abs() < 1e-5 && (hi - 4.0).abs() < 1e-5, "{lo} {hi}");
+    // Control points that make no whole segment are refused at their line.
+    let bad = format!("{HEAD_V4}WorldBegin\nShape \"curve\" \"point3 P\" [0 0 0 1 0 0 2 0 0]\n");
+    let Err(err) = convert_file(&write("curves2.pbrt", &bad), Path::new(".")) else { panic!("3 points are no cubic") };
+    assert!(err.to_string().contains("curves2.pbrt:") && err.to_string().contains("control points"), "{err}");
+}

@@ -117,6 +117,8 @@ pub struct Converter {
     pub files_read: std::cell::RefCell<Vec<std::path::PathBuf>>,
     /// Bytes of object descriptions copied by `ObjectInstance` so far.
     instanced_bytes: usize,
+    /// Triangles the file's `curve` shapes have been tessellated into so far (bounded: `curves.rs`).
+    pub curve_triangles: usize,
 }
 
 impl Converter {
@@ -150,6 +152,7 @@ impl Converter {
             includes: 0,
             files_read: Default::default(),
             instanced_bytes: 0,
+            curve_triangles: 0,
         };
         c.materials.insert("default".into(), "Lambert(albedo: 0.5)".into());
         c.material = "default".into();

@@ -19,6 +19,7 @@
 //! printed once as a warning.
 
 mod convert;
+mod curves;
 mod lexer;
 mod lights;
 mod materials;

@@ -103,6 +103,80 @@ fn inline_mesh(
     Ok(name)
 }
 
+/// A `curve` shape tessellated into an inline mesh (`curves.rs`); `None` when it has no segments to draw.
+fn curve_mesh(c: &mut Converter, p: &Params, what: &str, mirror: bool, pos: &SourcePos) -> Result<Option<String>> {
+    use super::curves::{CurveKind, MAX_CURVE_TRIANGLES, Segment, TRIANGLES_PER_SEGMENT, bezier_segments, tessellate};
+    let at = |key: &str| p.pos_of(key).unwrap_or(pos.clone());
+    let cp: Vec<DVec3> = p
+        .vec3s("P")?
+        .ok_or_else(|| bad(pos, format!("{what}: no \"point3 P\"")))?
+        .into_iter()
+        .map(DVec3::from_array)
+        .collect();
+    if let Some(i) = cp.iter().position(|v| !v.is_finite()) {
+        return Err(bad(&at("P"), format!("{what}: control point {i} is not finite")));
+    }
+    let basis = p.string("basis")?.unwrap_or_else(|| "bezier".into());
+    let degree = p.int("degree", 3)?;
+    let kind = match p.string("type")?.as_deref() {
+        None | Some("flat") => CurveKind::Flat,
+        Some("cylinder") => CurveKind::Cylinder,
+        Some("ribbon") => CurveKind::Ribbon,
+        Some(other) => {
+            return Err(bad(&at("type"), format!("{what}: unknown curve type \"{other}\" (flat, cylinder, ribbon)")));
+        }
+    };
+    let width = p.float("width", 1.0)?;
+    let (w0, w1) = (p.float("width0", width)?, p.float("width1", width)?);
+    if !(w0.is_finite() && w1.is_finite() && w0 >= 0.0 && w1 >= 0.0) {
+        return Err(bad(pos, format!("{what}: widths must be finite and >= 0, got {w0} and {w1}")));
+    }
+    let beziers =
+        bezier_segments(&cp, &basis, degree.clamp(0, 8) as usize).map_err(|e| bad(pos, format!("{what}: {e}")))?;
+    let normals = if kind == CurveKind::Ribbon {
+        let n = p.vec3s("N")?.ok_or_else(|| bad(pos, format!("{what}: a ribbon needs \"normal N\"")))?;
+        if n.len() != beziers.len() + 1 {
+            return Err(bad(
+                &at("N"),
+                format!(
+                    "{what}: a ribbon of {} segments needs {} normals, got {}",
+                    beziers.len(),
+                    beziers.len() + 1,
+                    n.len()
+                ),
+            ));
+        }
+        Some(n.into_iter().map(DVec3::from_array).collect::<Vec<_>>())
+    } else {
+        None
+    };
+    p.has("splitdepth");
+    c.curve_triangles = c.curve_triangles.saturating_add(beziers.len().saturating_mul(TRIANGLES_PER_SEGMENT));
+    if c.curve_triangles > MAX_CURVE_TRIANGLES {
+        return Err(bad(
+            pos,
+            format!("{what}: the file's curves would tessellate into more than {MAX_CURVE_TRIANGLES} triangles"),
+        ));
+    }
+    let n = beziers.len() as f64;
+    let segments: Vec<Segment> = beziers
+        .iter()
+        .enumerate()
+        .map(|(i, cp)| Segment {
+            cp: *cp,
+            width: [w0 + (w1 - w0) * i as f64 / n, w0 + (w1 - w0) * (i + 1) as f64 / n],
+            normal: normals.as_ref().map(|ns| [ns[i], ns[i + 1]]),
+        })
+        .collect();
+    let (mut pts, mut nrm, mut tris) = (Vec::new(), Vec::new(), Vec::new());
+    tessellate(&segments, kind, &mut pts, &mut nrm, &mut tris);
+    if tris.is_empty() {
+        c.warn(format!("{what} without segments is left out"));
+        return Ok(None);
+    }
+    Ok(Some(inline_mesh(c, &pts, &tris, Some(&nrm), None, mirror, pos)?))
+}
+
 /// Check per-vertex arrays and indices of a mesh shape.
 fn check_mesh(
     np: usize,
@@ -268,6 +342,10 @@ pub fn shape(c: &mut Converter, ty: &str, p: &Params, pos: &SourcePos) -> Result
                 tris.push([a0, b1, a1]);
             }
             let name = inline_mesh(c, &pts, &tris, Some(&nrm), Some(&uv), mirror, pos)?;
+            format!("TriangleMesh({})", quote(&name))
+        }
+        "curve" => {
+            let Some(name) = curve_mesh(c, p, &what, mirror, pos)? else { return Ok(()) };
             format!("TriangleMesh({})", quote(&name))
         }
         other => {
