@@ -442,3 +442,28 @@ fn the_one_lambert_lobe_shortcut_gives_the_general_bsdf_and_only_plain_lambert_m
         assert!(resolve(2, wo).is_none());
     }
 }
+
+/// A colour mixed by a 2D checkerboard: every pixel of a Lambertian sphere under a uniform white sky is one of
+/// the two colours (its albedo), and both cover a good share of the sphere.
+#[test]
+fn a_checkerboard_mix_paints_each_cell_one_of_its_two_colours() {
+    let scene = "(
+    camera: (eye: (0, 0, 4), target: (0, 0, 0), up: (0, 1, 0), fov: 30, size: (48, 48)),
+    render: (filter: Box()),
+    textures: { \"c\": Checker2d(uv_scale: (8, 4)) },
+    materials: { \"m\": Lambert(albedo: Mix(texture: \"c\", a: (0.8, 0.1, 0.1), b: (0.1, 0.1, 0.8))) },
+    entities: [(shape: Sphere(), material: \"m\"), (light: Environment(radiance: (1, 1, 1)))],
+)";
+    let mut o = crate::common::spp(16);
+    o.integrator = Some("envlight".into());
+    let img = crate::common::render_ron(scene, o);
+    let (mut red, mut blue) = (0, 0);
+    for p in &img.pixels {
+        if (*p - glam::Vec3::new(0.8, 0.1, 0.1)).abs().max_element() < 0.02 {
+            red += 1;
+        } else if (*p - glam::Vec3::new(0.1, 0.1, 0.8)).abs().max_element() < 0.02 {
+            blue += 1;
+        }
+    }
+    assert!(red > 150 && blue > 150, "{red} red and {blue} blue pixels of {}", img.pixels.len());
+}

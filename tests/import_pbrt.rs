@@ -557,3 +557,43 @@ fn curves_become_tubes_of_their_width_around_pbrts_bezier_segments() {
     let Err(err) = convert_file(&write("curves2.pbrt", &bad), Path::new(".")) else { panic!("3 points are no cubic") };
     assert!(err.to_string().contains("curves2.pbrt:") && err.to_string().contains("control points"), "{err}");
 }
+
+#[test]
+fn a_checkerboard_texture_alternates_its_two_values_on_pbrts_cells() {
+    let text = format!(
+        "{HEAD_V4}WorldBegin\nTexture \"c\" \"spectrum\" \"checkerboard\" \"float uscale\" 4 \"float vscale\" 2 \
+         \"float udelta\" 0.25 \"rgb tex1\" [1 0 0] \"rgb tex2\" [0 0 1]\n\
+         Texture \"k\" \"spectrum\" \"checkerboard\" \"integer dimension\" 3 \"rgb tex1\" [1 1 1] \"rgb tex2\" [0 0 0]\n\
+         MakeNamedMaterial \"m\" \"string type\" \"diffuse\" \"texture reflectance\" \"c\"\n\
+         MakeNamedMaterial \"n\" \"string type\" \"diffuse\" \"texture reflectance\" \"k\"\n"
+    );
+    let ron = ron_of(&write("checker.pbrt", &text));
+    let d = desc(&ron);
+    let Some(prism::load::schema::TextureDesc::Checker2d { uv_scale, uv_offset }) = d.textures.get("s:c") else {
+        panic!("a 2D checkerboard texture: {:?}", d.textures.get("s:c"))
+    };
+    // Prism's uv is pbrt's (u, 1 - v): the cell parity there must be pbrt's at (u, v).
+    let mut rng = prism::sampling::Rng::new(9, 9);
+    for _ in 0..2000 {
+        let (u, v) = (rng.next_f32(), rng.next_f32());
+        let pbrt = ((4.0 * u + 0.25).floor() + (2.0 * v).floor()) as i64 % 2;
+        let (x, y) = (u * uv_scale[0] + uv_offset[0], (1.0 - v) * uv_scale[1] + uv_offset[1]);
+        let prism = (x.floor() + y.floor()).rem_euclid(2.0) as i64;
+        if ((4.0 * u + 0.25).fract() - 0.5).abs() < 0.49 && ((2.0 * v).fract() - 0.5).abs() < 0.49 {
+            assert_eq!(pbrt, prism, "pbrt uv ({u}, {v})");
+        }
+    }
+    match material(&d, "named:m") {
+        MaterialDesc::Lambert { albedo, .. } => assert_eq!(
+            *albedo,
+            prism::load::schema::ColorDesc::Texture(prism::load::schema::TextureRef::Mix {
+                texture: "s:c".into(),
+                a: [1.0, 0.0, 0.0],
+                b: [0.0, 0.0, 1.0]
+            }),
+            "tex1 on the even cells"
+        ),
+        other => panic!("{other:?}"),
+    }
+    assert!(matches!(d.textures.get("s:k"), Some(prism::load::schema::TextureDesc::Checker3d { .. })));
+}

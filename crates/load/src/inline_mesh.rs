@@ -79,7 +79,7 @@ pub(super) fn alpha_mask(
                 textures.get(name).ok_or_else(|| PrismError::scene(ctx, format!("alpha: unknown texture '{name}'")))?;
             match set.get(*id) {
                 Texture::Image(m) => Some(m.clone()),
-                Texture::Solid(_) => {
+                Texture::Solid(_) | Texture::UvChecker { .. } => {
                     return Err(PrismError::scene(ctx, format!("alpha: texture '{name}' must be an image")));
                 }
             }

@@ -87,6 +87,8 @@ pub enum TextureRef {
         #[serde(default)]
         channel: Option<Channel>,
     },
+    /// A colour `a + (b - a) t`, `t` the texture's value (a checkerboard of two colours).
+    Mix { texture: String, a: V3, b: V3 },
 }
 
 /// A factor: one number or one per channel.
@@ -116,6 +118,13 @@ pub enum TextureDesc {
         /// Degrees, applied after `uv_scale` and before `uv_offset` (glTF's `KHR_texture_transform` rotation).
         #[serde(default)]
         uv_rotation: f32,
+    },
+    /// 2D checkerboard on the surface's uv: 0 and 1 on alternating cells of `uv * uv_scale + uv_offset`.
+    Checker2d {
+        #[serde(default = "uv_one")]
+        uv_scale: [f32; 2],
+        #[serde(default)]
+        uv_offset: [f32; 2],
     },
     /// 3D checkerboard: 0 and 1 on alternating unit cells of `transform(p)`.
     Checker3d {

@@ -61,6 +61,12 @@ pub(super) fn load_textures(
                     },
                 })
             }
+            TextureDesc::Checker2d { uv_scale, uv_offset } => {
+                if uv_scale.iter().chain(uv_offset).any(|v| !v.is_finite()) {
+                    return Err(PrismError::scene(&ctx, "uv_scale and uv_offset must be finite"));
+                }
+                Texture::UvChecker { scale: Vec2::from(*uv_scale), offset: Vec2::from(*uv_offset) }
+            }
             TextureDesc::Checker3d { transform } => solid(SolidKind::Checker3d, transform, 0, 1.0, 1.0, &ctx)?,
             TextureDesc::Noise { transform, octaves } => solid(SolidKind::Noise, transform, *octaves, 1.0, 1.0, &ctx)?,
             TextureDesc::Marble { transform, octaves, frequency, amplitude } => {
@@ -136,6 +142,10 @@ impl Ctx<'_> {
         Ok(match c {
             ColorDesc::Rgb(v) => ColorParam::Const(check(Vec3::from(*v))?),
             ColorDesc::Gray(g) => ColorParam::Const(check(Vec3::splat(*g))?),
+            ColorDesc::Texture(TextureRef::Mix { texture, a, b }) => {
+                let tex = self.texture(texture, what)?;
+                ColorParam::Mix { tex, a: check(Vec3::from(*a))?, b: check(Vec3::from(*b))? }
+            }
             ColorDesc::Texture(r) => {
                 let (name, scale, channel) = split_ref(r);
                 let tex = self.texture(name, what)?;
@@ -171,6 +181,9 @@ impl Ctx<'_> {
                 }
                 Ok(ScalarParam::Const(*v))
             }
+            ScalarDesc::Texture(TextureRef::Mix { .. }) => {
+                Err(self.err(format!("{what} is a scalar: `Mix` makes colours (use `Map` with a `scale`)")))
+            }
             ScalarDesc::Texture(r) => {
                 let (name, scale, channel) = split_ref(r);
                 let tex = self.texture(name, what)?;
@@ -201,6 +214,7 @@ fn split_ref(r: &TextureRef) -> (&str, Option<ScaleDesc>, Option<prism_core::tex
     match r {
         TextureRef::Texture(n) => (n.as_str(), None, None),
         TextureRef::Map { texture, scale, channel } => (texture.as_str(), *scale, *channel),
+        TextureRef::Mix { texture, .. } => (texture.as_str(), None, None),
     }
 }
 

@@ -58,7 +58,7 @@ pub fn bsdf_into(
             let (t, b) = tangent_frame(s.ns, s.dpdu, s.dpdv, prims.mesh_tangent(s));
             let c = match textures.get(*texture) {
                 Texture::Image(map) => map.eval(s.uv),
-                Texture::Solid(_) => glam::Vec3::new(0.5, 0.5, 1.0),
+                Texture::Solid(_) | Texture::UvChecker { .. } => glam::Vec3::new(0.5, 0.5, 1.0),
             };
             let n = normal_map_normal(s.ns, t, b, c, *strength, *flip_green, wo);
             ns = if front { n } else { -n };

@@ -62,6 +62,15 @@ pub enum ColorParam {
         /// Factor per RGB channel on the texture's value.
         scale: Vec3,
     },
+    /// `a + (b - a) t` per RGB channel, `t` a texture's value (a checkerboard between two colours; pbrt's `mix`).
+    Mix {
+        /// Index into the scene's [`TextureSet`].
+        tex: u32,
+        /// The colour where the texture is 0.
+        a: Vec3,
+        /// The colour where the texture is 1.
+        b: Vec3,
+    },
 }
 
 impl ColorParam {
@@ -83,7 +92,7 @@ impl ColorParam {
     pub fn constant(&self) -> Option<Vec3> {
         match self {
             ColorParam::Const(c) => Some(*c),
-            ColorParam::Map { .. } => None,
+            ColorParam::Map { .. } | ColorParam::Mix { .. } => None,
         }
     }
 }
@@ -122,6 +131,14 @@ pub enum Texture {
     Image(ImageMap),
     /// A 6.837 solid texture evaluated at the world-space point.
     Solid(Solid),
+    /// A checkerboard on the surface's uv: 0 on the cells where `floor(u') + floor(v')` is even, 1 on the others,
+    /// `uv' = uv * scale + offset` (pbrt's 2D `checkerboard`, point-sampled).
+    UvChecker {
+        /// Cells per unit of u and v.
+        scale: glam::Vec2,
+        /// Added to the scaled uv.
+        offset: glam::Vec2,
+    },
 }
 
 impl Texture {
@@ -129,13 +146,13 @@ impl Texture {
     pub fn is_scalar(&self) -> bool {
         match self {
             Texture::Image(m) => m.image.gray,
-            Texture::Solid(_) => true,
+            Texture::Solid(_) | Texture::UvChecker { .. } => true,
         }
     }
 
     /// True for textures that only make scalars (solid textures): they cannot be colours.
     pub fn scalar_only(&self) -> bool {
-        matches!(self, Texture::Solid(_))
+        matches!(self, Texture::Solid(_) | Texture::UvChecker { .. })
     }
 
     #[inline]
@@ -143,6 +160,7 @@ impl Texture {
         match self {
             Texture::Image(m) => m.eval(at.uv),
             Texture::Solid(s) => Vec3::splat(s.eval(at.p)),
+            Texture::UvChecker { scale, offset } => Vec3::splat(uv_checker(at.uv, *scale, *offset)),
         }
     }
 }
@@ -172,6 +190,7 @@ impl TextureSet {
         match p {
             ColorParam::Const(c) => *c,
             ColorParam::Map { tex, scale } => *scale * self.textures[*tex as usize].rgb(at),
+            ColorParam::Mix { tex, a, b } => *a + (*b - *a) * self.textures[*tex as usize].rgb(at),
         }
     }
 
@@ -183,7 +202,19 @@ impl TextureSet {
             ScalarParam::Map { tex, channel, scale } => match &self.textures[*tex as usize] {
                 Texture::Image(m) => *scale * channel.of(m.eval(at.uv)),
                 Texture::Solid(s) => *scale * s.eval(at.p),
+                Texture::UvChecker { scale: cells, offset } => *scale * uv_checker(at.uv, *cells, *offset),
             },
         }
     }
+}
+
+/// [`Texture::UvChecker`]'s value at `uv`: 0 or 1 (0 for non-finite coordinates).
+#[inline]
+fn uv_checker(uv: glam::Vec2, scale: glam::Vec2, offset: glam::Vec2) -> f32 {
+    let q = uv * scale + offset;
+    if !q.is_finite() {
+        return 0.0;
+    }
+    let s = (q.x.floor() as f64) + (q.y.floor() as f64);
+    if s.rem_euclid(2.0) == 0.0 { 0.0 } else { 1.0 }
 }

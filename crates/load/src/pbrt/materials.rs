@@ -9,11 +9,13 @@ use super::params::{FloatParam, Params, SpectrumParam};
 use super::spectrum::{MetalPart, NamedSpectrum, blackbody_v3, blackbody_v4, named_spectrum, sampled_to_rgb};
 use prism_core::error::{PrismError, Result, SourcePos};
 
-/// A texture as parameters see it: a constant, or an image texture of the RON scene times a factor.
+/// A texture as parameters see it: a constant, an image texture of the RON scene times a factor, or a mix of two
+/// colours by a RON texture (a checkerboard).
 #[derive(Clone, Debug)]
 pub enum TexValue {
     Const([f64; 3]),
     Image { ron: String, scale: [f64; 3] },
+    Mix { ron: String, a: [f64; 3], b: [f64; 3] },
 }
 
 /// The RON name of pbrt's `interface` material: shapes with it bound media only and are left out.
@@ -96,6 +98,9 @@ fn color_scaled(
                 Some(TexValue::Image { ron, scale }) => {
                     Ok(format!("Map(texture: {}, scale: {})", quote(&ron), tuple3(times(scale))))
                 }
+                Some(TexValue::Mix { ron, a, b }) => {
+                    Ok(format!("Mix(texture: {}, a: {}, b: {})", quote(&ron), tuple3(times(a)), tuple3(times(b))))
+                }
                 None => Err(bad(&pos, format!("parameter \"{name}\": unknown texture \"{t}\""))),
             }
         }
@@ -128,6 +133,11 @@ fn scalar(
                     quote(ron),
                     num((scale[0] + scale[1] + scale[2]) / 3.0)
                 )),
+                // A scalar checkerboard between 0 and b is the checker times b; otherwise its mean.
+                Some(TexValue::Mix { ron, a, b }) if a.iter().all(|&x| x == 0.0) => {
+                    Ok(format!("Map(texture: {}, scale: {})", quote(ron), num(f((b[0] + b[1] + b[2]) / 3.0))))
+                }
+                Some(TexValue::Mix { a, b, .. }) => Ok(num(f((a[0] + a[1] + a[2] + b[0] + b[1] + b[2]) / 6.0))),
                 None => Err(bad(&pos, format!("parameter \"{name}\": unknown texture \"{t}\""))),
             }
         }

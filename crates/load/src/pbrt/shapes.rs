@@ -401,6 +401,10 @@ fn alpha(c: &mut Converter, p: &Params, pos: &SourcePos) -> Result<Option<String
         TexValue::Image { ron, scale } => {
             Some(format!("(texture: {}, factor: {}, mode: {mode})", quote(&ron), num(scale[0].clamp(0.0, 1.0))))
         }
+        TexValue::Mix { a, b, .. } => {
+            c.warn("a checkerboard alpha is approximated by its mean");
+            Some(format!("(factor: {}, mode: {mode})", num(((a[0] + b[0]) / 2.0).clamp(0.0, 1.0))))
+        }
     })
 }
 

@@ -98,15 +98,80 @@ pub fn texture(c: &mut Converter, name: &str, kind: &str, class: &str, p: &Param
                 | (TexValue::Const(k), TexValue::Image { ron, scale }) => {
                     TexValue::Image { ron, scale: [scale[0] * k[0], scale[1] * k[1], scale[2] * k[2]] }
                 }
+                (TexValue::Mix { ron, a, b }, TexValue::Const(k))
+                | (TexValue::Const(k), TexValue::Mix { ron, a, b }) => {
+                    TexValue::Mix { ron, a: [0, 1, 2].map(|i| a[i] * k[i]), b: [0, 1, 2].map(|i| b[i] * k[i]) }
+                }
                 (img, _) => {
                     c.warn("a \"scale\" texture of two image textures keeps the first only");
                     img
                 }
             }
         }
+        "checkerboard"
+            if matches!(
+                (lookup(c, "tex1", [1.0; 3])?, lookup(c, "tex2", [0.0; 3])?),
+                (TexValue::Const(_), TexValue::Const(_))
+            ) =>
+        {
+            // pbrt: tex1 where floor(s) + floor(t) (+ floor(z)) is even, tex2 elsewhere; point-sampled here.
+            let (TexValue::Const(x), TexValue::Const(y)) = (lookup(c, "tex1", [1.0; 3])?, lookup(c, "tex2", [0.0; 3])?)
+            else {
+                unreachable!("matched above")
+            };
+            let ron = format!("{}:{name}", if float { "f" } else { "s" });
+            let text = match p.int("dimension", 2)? {
+                2 => {
+                    if let Some(m) = p.string("mapping")?
+                        && m != "uv"
+                    {
+                        c.warn(format!("texture mapping \"{m}\" is approximated by the uv mapping"));
+                    }
+                    let (su, sv) = (p.float("uscale", 1.0)?, p.float("vscale", 1.0)?);
+                    let (du, dv) = (p.float("udelta", 0.0)?, p.float("vdelta", 0.0)?);
+                    // Prism's v is pbrt's 1 - v: sv v + dv = -sv v' + (sv + dv).
+                    format!(
+                        "Checker2d(uv_scale: ({}, {}), uv_offset: ({}, {}))",
+                        num(su),
+                        num(-sv),
+                        num(du),
+                        num(sv + dv)
+                    )
+                }
+                3 => format!("Checker3d(transform: [{}])", super::convert::matrix_op(&c.ctm.inverse())),
+                d => {
+                    return Err(bad(
+                        &p.pos_of("dimension").unwrap_or(pos.clone()),
+                        format!("Texture \"{name}\": checkerboard dimension must be 2 or 3, got {d}"),
+                    ));
+                }
+            };
+            p.has("aamode");
+            c.textures.insert(ron.clone(), text);
+            TexValue::Mix { ron, a: x, b: y }
+        }
+        "mix" if matches!(p.float_or_texture("amount")?, Some(FloatParam::Texture(_))) => {
+            let (x, y) = (lookup(c, "tex1", [0.0; 3])?, lookup(c, "tex2", [1.0; 3])?);
+            let amount = lookup(c, "amount", [0.5; 3])?;
+            match (x, y, amount) {
+                (TexValue::Const(x), TexValue::Const(y), TexValue::Mix { ron, a, b })
+                    if a == [0.0; 3] && b == [1.0; 3] =>
+                {
+                    TexValue::Mix { ron, a: x, b: y }
+                }
+                (TexValue::Const(x), TexValue::Const(y), TexValue::Image { ron, scale }) if scale == [1.0; 3] => {
+                    TexValue::Mix { ron, a: x, b: y }
+                }
+                (x, _, _) => {
+                    c.warn("texture \"mix\" by a texture of image textures or a scaled amount keeps its first texture");
+                    x
+                }
+            }
+        }
         "mix" | "directionmix" | "checkerboard" => {
             let (a, b) = ("tex1", "tex2");
-            let (x, y) = (lookup(c, a, [0.0; 3])?, lookup(c, b, [1.0; 3])?);
+            let defaults = if class == "checkerboard" { ([1.0; 3], [0.0; 3]) } else { ([0.0; 3], [1.0; 3]) };
+            let (x, y) = (lookup(c, a, defaults.0)?, lookup(c, b, defaults.1)?);
             let t = if class == "checkerboard" { 0.5 } else { p.float("amount", 0.5).unwrap_or(0.5) };
             for q in p.list.iter().map(|q| q.name.clone()).collect::<Vec<_>>() {
                 p.has(&q);
@@ -118,7 +183,8 @@ pub fn texture(c: &mut Converter, name: &str, kind: &str, class: &str, p: &Param
                     }
                     TexValue::Const([0, 1, 2].map(|k| (1.0 - t) * x[k] + t * y[k]))
                 }
-                (img @ TexValue::Image { .. }, _) | (_, img @ TexValue::Image { .. }) => {
+                (img @ (TexValue::Image { .. } | TexValue::Mix { .. }), _)
+                | (_, img @ (TexValue::Image { .. } | TexValue::Mix { .. })) => {
                     c.warn(format!("texture \"{class}\" of an image texture keeps that image only"));
                     img
                 }

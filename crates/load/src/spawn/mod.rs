@@ -249,7 +249,7 @@ impl Spawner<'_> {
             .ok_or_else(|| PrismError::scene(ctx, format!("area light: unknown texture '{name}'")))?;
         match self.res.textures.get(*id) {
             prism_core::texture::Texture::Image(m) => Ok(m.clone()),
-            prism_core::texture::Texture::Solid(_) => {
+            prism_core::texture::Texture::Solid(_) | prism_core::texture::Texture::UvChecker { .. } => {
                 Err(PrismError::scene(ctx, format!("area light: texture '{name}' must be an image")))
             }
         }
