@@ -108,6 +108,8 @@ fn srgb_textures_are_decoded_per_texel_before_interpolation() {
     let (a, b) = (bytes.get_pixel(7, 20), bytes.get_pixel(8, 20));
     assert!((img.texel_at(20 * 64 + 7).x - dec(a[0])).abs() < 1e-6);
     assert!((raw.texel_at(20 * 64 + 7).x - a[0] as f32 / 255.0).abs() < 1e-6, "raw keeps byte / 255");
+    let gamma = TexImage::load_decoded(&path, prism::texture::ByteDecoding::Gamma(2.2)).unwrap();
+    assert!((gamma.texel_at(20 * 64 + 7).x - (a[0] as f32 / 255.0).powf(2.2)).abs() < 1e-6, "gamma: c^2.2");
     let mid = img.bilinear(Vec2::new(8.0 / 64.0, 20.5 / 64.0), Wrap::Repeat);
     let expect = 0.5 * (dec(a[0]) + dec(b[0]));
     let wrong = srgb_to_linear(0.5 * (a[0] as f32 + b[0] as f32) / 255.0);

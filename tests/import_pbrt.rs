@@ -597,3 +597,31 @@ fn a_checkerboard_texture_alternates_its_two_values_on_pbrts_cells() {
     }
     assert!(matches!(d.textures.get("s:k"), Some(prism::load::schema::TextureDesc::Checker3d { .. })));
 }
+
+#[test]
+fn an_imagemaps_encoding_is_srgb_linear_or_a_gamma() {
+    let png = crate::common::root().join("scenes/assets/checker_f.png");
+    let dir = scratch("pbrt_encoding");
+    std::fs::copy(&png, dir.join("t.png")).unwrap();
+    let head = format!("{HEAD_V4}WorldBegin\n");
+    let tex =
+        |enc: &str| format!("{head}Texture \"t\" \"spectrum\" \"imagemap\" \"string filename\" \"t.png\" {enc}\n");
+    let path = dir.join("enc.pbrt");
+    for (enc, raw, gamma) in [
+        ("", false, None),
+        ("\"string encoding\" \"linear\"", true, None),
+        ("\"string encoding\" \"gamma 2.2\"", false, Some(2.2f32)),
+    ] {
+        std::fs::write(&path, tex(enc)).unwrap();
+        let ron = ron_of(&path);
+        match desc(&ron).textures.get("s:t") {
+            Some(prism::load::schema::TextureDesc::Image { raw: r, gamma: g, .. }) => {
+                assert_eq!((*r, *g), (raw, gamma), "{enc}")
+            }
+            other => panic!("{other:?}"),
+        }
+    }
+    std::fs::write(&path, tex("\"string encoding\" \"log\"")).unwrap();
+    let Err(err) = convert_file(&path, Path::new(".")) else { panic!("an unknown encoding is refused") };
+    assert!(err.to_string().contains("unknown encoding \"log\"") && err.to_string().contains("enc.pbrt:"), "{err}");
+}

@@ -118,6 +118,9 @@ pub enum TextureDesc {
         /// Degrees, applied after `uv_scale` and before `uv_offset` (glTF's `KHR_texture_transform` rotation).
         #[serde(default)]
         uv_rotation: f32,
+        /// Decode 8- and 16-bit values as `c^gamma` instead of from sRGB (pbrt's `"encoding" "gamma g"`).
+        #[serde(default)]
+        gamma: Option<f32>,
     },
     /// 2D checkerboard on the surface's uv: 0 and 1 on alternating cells of `uv * uv_scale + uv_offset`.
     Checker2d {

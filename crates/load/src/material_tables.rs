@@ -9,7 +9,7 @@ use glam::{Vec2, Vec3};
 use prism_core::bsdf::layered::{LayerBase, LayerSpec};
 use prism_core::error::{PrismError, Result};
 use prism_core::material::{CoatBase, ConductorSpec, Material, MaterialKind, PhongParams, Shading, metals};
-use prism_core::texture::{ColorParam, ImageMap, ScalarParam, Solid, SolidKind, TexImage, Texture};
+use prism_core::texture::{ByteDecoding, ColorParam, ImageMap, ScalarParam, Solid, SolidKind, TexImage, Texture};
 use prism_engine::Resources;
 use std::collections::{BTreeMap, HashMap};
 use std::path::{Path, PathBuf};
@@ -28,23 +28,36 @@ pub(super) fn load_textures(
     file: &str,
     res: &mut Resources,
 ) -> Result<HashMap<String, u32>> {
-    let mut images: HashMap<(PathBuf, bool), Arc<TexImage>> = HashMap::new();
+    let mut images: HashMap<(PathBuf, bool, Option<u32>), Arc<TexImage>> = HashMap::new();
     let mut out = HashMap::new();
     for (name, d) in descs {
         let ctx = format!("{file}: texture '{name}'");
         let tex = match d {
-            TextureDesc::Image { path, raw, wrap, uv_scale, uv_offset, uv_rotation } => {
+            TextureDesc::Image { path, raw, wrap, uv_scale, uv_offset, uv_rotation, gamma } => {
                 if uv_scale.iter().chain(uv_offset).chain([uv_rotation]).any(|v| !v.is_finite()) {
                     return Err(PrismError::scene(&ctx, "uv_scale, uv_offset and uv_rotation must be finite"));
                 }
+                let decoding = match (*raw, *gamma) {
+                    (false, None) => ByteDecoding::Srgb,
+                    (true, None) => ByteDecoding::Raw,
+                    (false, Some(g)) if g.is_finite() && g > 0.0 => ByteDecoding::Gamma(g),
+                    (false, Some(g)) => {
+                        return Err(PrismError::scene(&ctx, format!("gamma must be a positive number, got {g}")));
+                    }
+                    (true, Some(_)) => {
+                        return Err(PrismError::scene(&ctx, "give `raw: true` or a `gamma`, not both"));
+                    }
+                };
                 let full = base_dir.join(path);
                 res.inputs.push(full.clone());
-                let key = (full.clone(), *raw);
+                let key = (full.clone(), *raw, gamma.map(f32::to_bits));
                 let image = match images.get(&key) {
                     Some(i) => i.clone(),
                     None => {
-                        let i =
-                            Arc::new(TexImage::load(&full, *raw).map_err(|e| PrismError::scene(&ctx, e.to_string()))?);
+                        let i = Arc::new(
+                            TexImage::load_decoded(&full, decoding)
+                                .map_err(|e| PrismError::scene(&ctx, e.to_string()))?,
+                        );
                         images.insert(key, i.clone());
                         i
                     }

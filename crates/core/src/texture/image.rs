@@ -81,23 +81,43 @@ static SQUARED_TABLE: std::sync::LazyLock<ByteTable> = std::sync::LazyLock::new(
     })
 });
 
-/// How an 8-bit image's bytes decode.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// How an image's stored values (8 or 16 bits, as a fraction `c` in [0, 1]) decode to linear values.
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub enum ByteDecoding {
-    /// `byte / 255` (data maps: normal, roughness, height, alpha).
+    /// `c` (data maps: normal, roughness, height, alpha).
     Raw,
-    /// sRGB-decoded `byte / 255` (colour).
+    /// sRGB-decoded `c` (colour).
     Srgb,
-    /// `(byte / 255)^2` (a roughness map used as GGX alpha).
+    /// `c^2` (a roughness map used as GGX alpha).
     Squared,
+    /// `c^gamma` (pbrt's `"encoding" "gamma g"`), `gamma` finite and positive.
+    Gamma(f32),
 }
 
 impl ByteDecoding {
+    /// The decoded value of the stored fraction `c`.
+    pub fn decode(self, c: f32) -> f32 {
+        match self {
+            ByteDecoding::Raw => c,
+            ByteDecoding::Srgb => srgb_to_linear(c),
+            ByteDecoding::Squared => c * c,
+            ByteDecoding::Gamma(g) => c.powf(g),
+        }
+    }
+
     fn table(self) -> &'static ByteTable {
         match self {
             ByteDecoding::Raw => &RAW_TABLE,
             ByteDecoding::Srgb => &SRGB_TABLE,
             ByteDecoding::Squared => &SQUARED_TABLE,
+            ByteDecoding::Gamma(g) => {
+                // One table per exponent, kept for the process's life.
+                type Tables = std::collections::HashMap<u32, &'static ByteTable>;
+                static TABLES: std::sync::OnceLock<std::sync::Mutex<Tables>> = std::sync::OnceLock::new();
+                let mut t = TABLES.get_or_init(Default::default).lock().unwrap_or_else(|e| e.into_inner());
+                t.entry(g.to_bits())
+                    .or_insert_with(|| Box::leak(Box::new(std::array::from_fn(|b| (b as f32 / 255.0).powf(g)))))
+            }
         }
     }
 }
@@ -202,13 +222,18 @@ impl TexImage {
 
     /// Read an image file. `raw`: keep 8/16-bit values as stored (data maps); otherwise decode them from sRGB.
     pub fn load(path: &Path, raw: bool) -> Result<Self> {
+        Self::load_decoded(path, if raw { ByteDecoding::Raw } else { ByteDecoding::Srgb })
+    }
+
+    /// [`TexImage::load`] with 8/16-bit values decoded by `decoding` (float images are linear as they are).
+    pub fn load_decoded(path: &Path, decoding: ByteDecoding) -> Result<Self> {
         crate::io::open_regular(path, "texture file")?;
         let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
         let img = if ext == "exr" {
             let im = crate::io::read_exr(path)?;
             TexImage { width: im.width, height: im.height, texels: Texels::Rgb32(im.pixels), gray: false }
         } else {
-            Self::decode(path, raw)?
+            Self::decode(path, decoding)?
         };
         if img.width == 0 || img.height == 0 || img.len() != img.width as usize * img.height as usize {
             return Err(PrismError::format(path, format!("texture has no pixels ({}x{})", img.width, img.height)));
@@ -229,12 +254,12 @@ impl TexImage {
     }
 
     /// PNG, JPEG or Radiance HDR through the image crate.
-    fn decode(path: &Path, raw: bool) -> Result<Self> {
+    fn decode(path: &Path, decoding: ByteDecoding) -> Result<Self> {
         let reader = image::ImageReader::open(path)
             .map_err(|e| PrismError::io(path, e))?
             .with_guessed_format()
             .map_err(|e| PrismError::io(path, e))?;
-        Ok(Self::from_dynamic(&Self::decode_reader(reader, path)?, raw))
+        Ok(Self::from_dynamic_decoded(&Self::decode_reader(reader, path)?, decoding))
     }
 
     /// Decode an image held in memory (PNG, JPEG or Radiance HDR; a glTF buffer view or data URI). `what` names
@@ -265,6 +290,11 @@ impl TexImage {
     /// The texels of a decoded image: 8-bit images kept as bytes (decoded from sRGB at lookup unless `raw`), 16-bit
     /// ones decoded to f32 (from sRGB unless `raw`), float images as they are.
     pub fn from_dynamic(dynimg: &image::DynamicImage, raw: bool) -> Self {
+        Self::from_dynamic_decoded(dynimg, if raw { ByteDecoding::Raw } else { ByteDecoding::Srgb })
+    }
+
+    /// [`TexImage::from_dynamic`] with 8/16-bit values decoded by `decoding`.
+    pub fn from_dynamic_decoded(dynimg: &image::DynamicImage, decoding: ByteDecoding) -> Self {
         use image::ColorType as C;
         let color = dynimg.color();
         let gray = matches!(color, C::L8 | C::La8 | C::L16 | C::La16);
@@ -273,13 +303,10 @@ impl TexImage {
         let texels = if float {
             Texels::Rgb32(dynimg.to_rgb32f().pixels().map(|p| Vec3::new(p[0], p[1], p[2])).collect())
         } else if matches!(color, C::L16 | C::La16 | C::Rgb16 | C::Rgba16) {
-            let dec = |v: u16| {
-                let c = v as f32 / 65535.0;
-                if raw { c } else { srgb_to_linear(c) }
-            };
+            let dec = |v: u16| decoding.decode(v as f32 / 65535.0);
             Texels::Rgb32(dynimg.to_rgb16().pixels().map(|p| Vec3::new(dec(p[0]), dec(p[1]), dec(p[2]))).collect())
         } else {
-            let table = if raw { ByteDecoding::Raw } else { ByteDecoding::Srgb }.table();
+            let table = decoding.table();
             if gray {
                 Texels::Gray8 { bytes: dynimg.to_luma8().into_raw(), table }
             } else {
@@ -300,14 +327,9 @@ impl TexImage {
                 bytes: dynimg.to_rgb8().pixels().map(|p| p[channel.min(2)]).collect(),
                 table: decoding.table(),
             },
-            _ => {
-                let f = |c: f32| match decoding {
-                    ByteDecoding::Raw => c,
-                    ByteDecoding::Srgb => srgb_to_linear(c),
-                    ByteDecoding::Squared => c * c,
-                };
-                Texels::Rgb32(dynimg.to_rgb32f().pixels().map(|p| Vec3::splat(f(p[channel.min(2)]))).collect())
-            }
+            _ => Texels::Rgb32(
+                dynimg.to_rgb32f().pixels().map(|p| Vec3::splat(decoding.decode(p[channel.min(2)]))).collect(),
+            ),
         };
         TexImage { width: w, height: h, texels, gray: true }
     }

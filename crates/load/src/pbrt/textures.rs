@@ -45,10 +45,21 @@ pub fn texture(c: &mut Converter, name: &str, kind: &str, class: &str, p: &Param
             }
             let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
             let eight_bit = matches!(ext.as_str(), "png" | "tga" | "jpg" | "jpeg" | "bmp");
-            let srgb = match (c.version, p.string("encoding")?) {
-                (_, Some(e)) => e == "sRGB",
-                (Version::V3, None) => p.bool("gamma", eight_bit)?,
-                (Version::V4, None) => eight_bit,
+            // pbrt-v4's `encoding`: "sRGB", "linear" or "gamma g" (8- and 16-bit images; float ones are linear).
+            let (srgb, gamma) = match (c.version, p.string("encoding")?) {
+                (_, Some(e)) if e == "sRGB" => (true, None),
+                (_, Some(e)) if e == "linear" => (false, None),
+                (_, Some(e)) => match e.strip_prefix("gamma ").map(|g| g.trim().parse::<f64>()) {
+                    Some(Ok(g)) if g.is_finite() && g > 0.0 => (false, Some(g)),
+                    _ => {
+                        return Err(bad(
+                            &p.pos_of("encoding").unwrap_or(pos.clone()),
+                            format!("Texture \"{name}\": unknown encoding \"{e}\" (sRGB, linear or \"gamma g\")"),
+                        ));
+                    }
+                },
+                (Version::V3, None) => (p.bool("gamma", eight_bit)?, None),
+                (Version::V4, None) => (eight_bit, None),
             };
             p.has("gamma");
             let (su, sv) = (p.float("uscale", 1.0)?, p.float("vscale", 1.0)?);
@@ -78,13 +89,14 @@ pub fn texture(c: &mut Converter, name: &str, kind: &str, class: &str, p: &Param
             c.textures.insert(
                 ron.clone(),
                 format!(
-                    "Image(path: {}, raw: {}, wrap: {wrap}, uv_scale: ({}, {}), uv_offset: ({}, {}))",
+                    "Image(path: {}, raw: {}, wrap: {wrap}, uv_scale: ({}, {}), uv_offset: ({}, {}){})",
                     quote(&c.ron_path(&path)),
-                    !srgb,
+                    !srgb && gamma.is_none(),
                     num(su),
                     num(sv),
                     num(du),
-                    num(1.0 - sv - dv)
+                    num(1.0 - sv - dv),
+                    gamma.map_or(String::new(), |g| format!(", gamma: Some({})", num(g)))
                 ),
             );
             TexValue::Image { ron, scale: [scale.max(0.0); 3] }
