@@ -11,7 +11,8 @@
 //! RGB; `mode` is the transport mode (refraction scales radiance by `1 / eta'^2`).
 
 use crate::bsdf::TransportMode;
-use crate::bsdf::fresnel::fresnel_conductor1;
+use crate::bsdf::fresnel::fresnel_conductor;
+use crate::math::fresnel_dielectric;
 use crate::sampling::warp;
 use glam::{Vec2, Vec3, Vec3A};
 use std::f32::consts::{FRAC_1_PI, PI};
@@ -132,20 +133,7 @@ fn tr_sample_wm(w: Vec3A, alpha: f32, u: Vec2) -> Vec3A {
 
 /// pbrt's `FrDielectric`: a negative cosine is light arriving from below (the index is inverted).
 pub(super) fn fr_dielectric(cos_i: f32, eta: f32) -> f32 {
-    let mut c = cos_i.clamp(-1.0, 1.0);
-    let mut eta = eta;
-    if c < 0.0 {
-        eta = 1.0 / eta;
-        c = -c;
-    }
-    let sin2_t = (1.0 - c * c) / (eta * eta);
-    if sin2_t >= 1.0 {
-        return 1.0;
-    }
-    let cos_t = (1.0 - sin2_t).max(0.0).sqrt();
-    let r_parl = (eta * c - cos_t) / (eta * c + cos_t);
-    let r_perp = (c - eta * cos_t) / (c + eta * cos_t);
-    (r_parl * r_parl + r_perp * r_perp) / 2.0
+    if cos_i < 0.0 { fresnel_dielectric(-cos_i, 1.0 / eta) } else { fresnel_dielectric(cos_i, eta) }
 }
 
 /// pbrt's `Refract`: `wi` refracted through the interface of normal `n` (either side), with the relative index
@@ -169,14 +157,6 @@ fn refract(wi: Vec3A, n: Vec3A, eta: f32) -> Option<(Vec3A, f32)> {
 #[inline]
 fn reflect(w: Vec3A, n: Vec3A) -> Vec3A {
     -w + 2.0 * w.dot(n) * n
-}
-
-fn fr_complex(cos_i: f32, eta: Vec3, k: Vec3) -> Vec3 {
-    Vec3::new(
-        fresnel_conductor1(cos_i, eta.x, k.x),
-        fresnel_conductor1(cos_i, eta.y, k.y),
-        fresnel_conductor1(cos_i, eta.z, k.z),
-    )
 }
 
 impl Interface {
@@ -209,7 +189,7 @@ impl Interface {
                     return Vec3::ZERO;
                 }
                 let wm = wm.normalize();
-                let f = fr_complex(wo.dot(wm).abs(), eta, k);
+                let f = fresnel_conductor(wo.dot(wm).abs(), eta, k);
                 f * (tr_d(wm, alpha) * tr_g(wo, wi, alpha) / (4.0 * ci * co))
             }
             Interface::Dielectric { eta, alpha } => Vec3::splat(dielectric_f(eta, alpha, wo, wi, mode)),
@@ -264,7 +244,7 @@ impl Interface {
                 }
                 if smooth(alpha) {
                     let wi = Vec3A::new(-wo.x, -wo.y, wo.z);
-                    let f = fr_complex(wi.z.abs(), eta, k) / wi.z.abs();
+                    let f = fresnel_conductor(wi.z.abs(), eta, k) / wi.z.abs();
                     return Some(InterfaceSample { f, wi, pdf: 1.0, specular: true });
                 }
                 if wo.z == 0.0 {
@@ -280,8 +260,8 @@ impl Interface {
                 if co == 0.0 || ci == 0.0 {
                     return None;
                 }
-                let f =
-                    fr_complex(wo.dot(wm).abs(), eta, k) * (tr_d(wm, alpha) * tr_g(wo, wi, alpha) / (4.0 * ci * co));
+                let f = fresnel_conductor(wo.dot(wm).abs(), eta, k)
+                    * (tr_d(wm, alpha) * tr_g(wo, wi, alpha) / (4.0 * ci * co));
                 Some(InterfaceSample { f, wi, pdf, specular: false })
             }
             Interface::Dielectric { eta, alpha } => dielectric_sample(eta, alpha, wo, uc, u, mode, parts),
